@@ -1,0 +1,13 @@
+// Each `lobe` subcommand lives in its own cmd_<name>.cpp and registers itself on the app here.
+// main.cpp lists them; CLI::App is only forward-declared so this header stays cheap.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace lobe {
+
+void registerBrdfCommand(CLI::App& app);
+
+}  // namespace lobe

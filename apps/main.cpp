@@ -1,0 +1,30 @@
+// `lobe`: the command line of the Lobe renderer. Errors in input (files, scenes, parameters) are
+// thrown once as lobe::Error and reported here as one line with a non-zero exit.
+#include "apps/commands.h"
+#include "core/error.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    CLI::App app{"Lobe: renders medical volume data in which every object has its own BRDF.\n"
+                 "Run 'lobe COMMAND --help' for the options of one command."};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "lobe 0.1.0");
+    lobe::registerBrdfCommand(app);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const lobe::Error& e) {
+        std::fprintf(stderr, "lobe: error: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "lobe: internal error: %s\n", e.what());
+        return 2;
+    }
+    return 0;
+}

@@ -1,0 +1,29 @@
+// Orthonormal shading frame: x = tangent t (anisotropy direction), y = bitangent b = n × t,
+// z = normal n, as fixed in shared/docs/brdf-models.md ("Conventions").
+#pragma once
+
+#include "core/math.h"
+
+namespace lobe {
+
+struct Frame {
+    Vec3 t{1, 0, 0};
+    Vec3 b{0, 1, 0};
+    Vec3 n{0, 0, 1};
+
+    Vec3 toLocal(const Vec3& w) const { return Vec3(w.dot(t), w.dot(b), w.dot(n)); }
+    Vec3 toWorld(const Vec3& w) const { return t * w.x + b * w.y + n * w.z; }
+
+    // Frame around unit normal n whose tangent is the projection of `axis` onto the tangent plane.
+    // Where that projection degenerates (|axis × n| < minSine) `fallbackAxis` is projected instead;
+    // this is the tangent field of shared/docs/flux-overlap.md and of the renderer's anisotropic
+    // objects.
+    static Frame fromNormalAndAxis(const Vec3& n, const Vec3& axis, const Vec3& fallbackAxis,
+                                   double minSine = 1e-3);
+
+    // Any frame around n (for isotropic shading only): Duff et al. 2017, "Building an
+    // orthonormal basis, revisited", JCGT 6(1).
+    static Frame fromNormal(const Vec3& n);
+};
+
+}  // namespace lobe

@@ -1,0 +1,134 @@
+#include "core/image_output.h"
+
+#include "core/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+namespace lobe {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+bool isFloatFormat(const std::string& ext) { return ext == ".exr"; }
+
+// Temporary sibling of `path` that keeps the extension, since OpenImageIO picks the format by it.
+std::string temporarySibling(const std::string& path) {
+    const fs::path p(path);
+    std::random_device rd;
+    const std::string tag = std::to_string(rd() % 1000000);
+    return (p.parent_path() / ("." + p.stem().string() + ".partial-" + tag + p.extension().string()))
+        .string();
+}
+
+void writePixels(const std::string& path, int width, int height,
+                 const std::vector<std::string>& channelNames, const std::vector<float>& data) {
+    const std::string ext = lowerExtension(path);
+    if (!isSupportedImageExtension(path))
+        throw Error("cannot write '" + path + "': unsupported image extension '" + ext +
+                    "' (use .exr, .png, .tif or .jpg)");
+    const fs::path parent = fs::path(path).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent))
+        throw Error("cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
+
+    const int channels = static_cast<int>(channelNames.size());
+    OIIO::ImageSpec spec;
+    std::vector<unsigned char> bytes;
+    const void* pixels = data.data();
+    if (isFloatFormat(ext)) {
+        spec = OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = channelNames;
+        spec.attribute("compression", "zip");
+    } else {
+        // 8-bit formats get the display encoding and only the colour channels.
+        spec = OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8);
+        bytes.resize(size_t(width) * height * 3);
+        for (size_t i = 0, n = size_t(width) * height; i < n; ++i)
+            for (int c = 0; c < 3; ++c) {
+                const double v = data[i * channels + c];
+                bytes[i * 3 + c] = static_cast<unsigned char>(
+                    std::lround(srgbEncode(std::isfinite(v) ? v : 0.0) * 255.0));
+            }
+        pixels = bytes.data();
+        spec.attribute("oiio:ColorSpace", "sRGB");
+    }
+
+    const std::string tmp = temporarySibling(path);
+    auto out = OIIO::ImageOutput::create(tmp);
+    if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
+    bool ok = out->open(tmp, spec);
+    ok = ok && out->write_image(spec.format, pixels);
+    ok = out->close() && ok;
+    if (!ok) {
+        const std::string why = out->geterror();
+        std::remove(tmp.c_str());
+        throw Error("cannot write '" + path + "': " + why);
+    }
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) {
+        std::remove(tmp.c_str());
+        throw Error("cannot write '" + path + "': " + ec.message());
+    }
+}
+
+}  // namespace
+
+bool isSupportedImageExtension(const std::string& path) {
+    const std::string ext = lowerExtension(path);
+    return ext == ".exr" || ext == ".png" || ext == ".tif" || ext == ".tiff" || ext == ".jpg" ||
+           ext == ".jpeg";
+}
+
+void writeImage(const std::string& path, const RgbImage& image) {
+    writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb);
+}
+
+void writeFilm(const std::string& path, const Film& film, double exposure) {
+    const RgbImage rgb = filmToRgb(film, exposure);
+    const size_t n = size_t(film.width()) * film.height();
+    std::vector<float> data(n * 6);
+    for (size_t i = 0; i < n; ++i) {
+        const Spectrum& s = film.pixels()[i];
+        for (int c = 0; c < 3; ++c) {
+            data[i * 6 + c] = rgb.rgb[i * 3 + c];
+            const double band = s[c] * exposure;
+            data[i * 6 + 3 + c] = std::isfinite(band) ? float(band) : 0.0f;
+        }
+    }
+    writePixels(path, film.width(), film.height(),
+                {"R", "G", "B", "band.700", "band.546_1", "band.435_8"}, data);
+}
+
+RgbImage readImage(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
+        throw Error("cannot read image '" + path + "': " + in->geterror());
+    const bool encoded = spec.format == OIIO::TypeDesc::UINT8;
+    RgbImage image(spec.width, spec.height);
+    for (size_t i = 0, n = size_t(spec.width) * spec.height; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = data[i * spec.nchannels + std::min(c, spec.nchannels - 1)];
+            if (encoded)  // inverse sRGB transfer function
+                v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+            image.rgb[i * 3 + c] = v;
+        }
+    return image;
+}
+
+}  // namespace lobe

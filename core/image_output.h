@@ -1,0 +1,26 @@
+// Writing images with OpenImageIO. The format follows the extension: .exr keeps linear floats
+// (R, G, B in linear sRGB and, for a Film, the three bands as channels band.700, band.546_1,
+// band.435_8); .png, .tif, .jpg get 8-bit sRGB-encoded values. Files are written under a
+// temporary name in the same folder and renamed, so a failed write never leaves a partial file.
+// This lives in its own library (lobe_image_io) because OpenImageIO costs every process that
+// links it ~0.3 s of start-up (shared/docs/stack.md, pitfall 3).
+#pragma once
+
+#include "core/film.h"
+#include "core/rgb_image.h"
+
+#include <string>
+
+namespace lobe {
+
+// Throws lobe::Error naming the path when the extension is unsupported or writing fails.
+void writeImage(const std::string& path, const RgbImage& image);
+void writeFilm(const std::string& path, const Film& film, double exposure = 1.0);
+
+// Reads any image OpenImageIO understands into linear sRGB (8-bit files are decoded from sRGB).
+RgbImage readImage(const std::string& path);
+
+// True for the extensions writeImage accepts.
+bool isSupportedImageExtension(const std::string& path);
+
+}  // namespace lobe

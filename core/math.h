@@ -1,0 +1,36 @@
+// Small math vocabulary shared by every module: Imath vectors in double precision and a few
+// numerically careful helpers. Double precision because `lobe brdf eval` promises 9 significant
+// digits and the flux-overlap test sums millions of small values.
+#pragma once
+
+#include <Imath/ImathVec.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lobe {
+
+using Vec3 = Imath::V3d;
+using Vec2 = Imath::V2d;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInvPi = 1.0 / kPi;
+
+inline double clamp01(double x) { return std::min(1.0, std::max(0.0, x)); }
+
+// sqrt that treats tiny negative round-off as zero instead of returning NaN.
+inline double safeSqrt(double x) { return std::sqrt(std::max(0.0, x)); }
+
+inline double radians(double degrees) { return degrees * kPi / 180.0; }
+
+// Vector normalised in place; a zero vector stays zero (callers check for that case explicitly).
+inline Vec3 normalized(const Vec3& v) {
+    const double len = v.length();
+    return len > 0.0 ? v / len : Vec3(0.0);
+}
+
+inline bool isFinite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace lobe

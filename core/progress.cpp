@@ -1,0 +1,85 @@
+#include "core/progress.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace lobe {
+
+std::string formatDuration(double seconds) {
+    char buf[64];
+    if (seconds < 60.0) {
+        std::snprintf(buf, sizeof buf, "%.1f s", seconds);
+    } else if (seconds < 3600.0) {
+        const int s = static_cast<int>(seconds + 0.5);
+        std::snprintf(buf, sizeof buf, "%d min %02d s", s / 60, s % 60);
+    } else {
+        const int m = static_cast<int>(seconds / 60.0 + 0.5);
+        std::snprintf(buf, sizeof buf, "%d h %02d min", m / 60, m % 60);
+    }
+    return buf;
+}
+
+ProgressReporter::ProgressReporter(std::string label, int64_t totalUnits, bool enabled)
+    : label_(std::move(label)),
+      total_(totalUnits > 0 ? totalUnits : 1),
+      enabled_(enabled),
+      terminal_(isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      lastPrint_(start_) {}
+
+ProgressReporter::~ProgressReporter() { finish(); }
+
+double ProgressReporter::elapsedSeconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void ProgressReporter::advance(int64_t units) {
+    const int64_t done = done_.fetch_add(units) + units;
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    // On a terminal redraw at most 10 times a second; in a log print each tenth of the work, or
+    // every 10 s when tenths are slow, so a CI log stays short but never silent for long.
+    std::unique_lock<std::mutex> lock(printMutex_, std::try_to_lock);
+    if (!lock.owns_lock() || finished_) return;
+    const double sinceLast = std::chrono::duration<double>(now - lastPrint_).count();
+    const int decile = static_cast<int>(10 * done / total_);
+    const bool due = terminal_ ? sinceLast >= 0.1 : (decile > lastDecile_ || sinceLast >= 10.0);
+    if (!due) return;
+    lastDecile_ = decile;
+    lastPrint_ = now;
+    print(done, false);
+}
+
+void ProgressReporter::finish() {
+    std::lock_guard<std::mutex> lock(printMutex_);
+    if (finished_) return;
+    finished_ = true;
+    if (enabled_) print(done_.load(), true);
+}
+
+void ProgressReporter::print(int64_t done, bool final) {
+    const double fraction = std::min(1.0, double(done) / double(total_));
+    const double elapsed = elapsedSeconds();
+    std::string tail;
+    if (final) {
+        tail = "done in " + formatDuration(elapsed);
+    } else if (fraction > 0.0) {
+        tail = formatDuration(elapsed) + " elapsed, ETA " +
+               formatDuration(elapsed * (1.0 - fraction) / fraction);
+    }
+    if (terminal_) {
+        constexpr int kWidth = 30;
+        const int filled = static_cast<int>(fraction * kWidth);
+        std::string bar(filled, '#');
+        bar.append(kWidth - filled, '.');
+        std::fprintf(stderr, "\r%s [%s] %3d%%  %s\033[K%s", label_.c_str(), bar.c_str(),
+                     static_cast<int>(fraction * 100.0), tail.c_str(), final ? "\n" : "");
+    } else {
+        std::fprintf(stderr, "%s: %3d%%  %s\n", label_.c_str(), static_cast<int>(fraction * 100.0),
+                     tail.c_str());
+    }
+    std::fflush(stderr);
+}
+
+}  // namespace lobe

@@ -1,0 +1,33 @@
+// A linear-sRGB float image (3 channels, row-major, row 0 at the top): the display form of a
+// Film, and what the tools that draw diagrams (heat maps, lobe images, contact sheets) produce.
+#pragma once
+
+#include "core/film.h"
+
+#include <array>
+#include <vector>
+
+namespace lobe {
+
+struct RgbImage {
+    int width = 0;
+    int height = 0;
+    std::vector<float> rgb;  // 3 floats per pixel, linear sRGB
+
+    RgbImage() = default;
+    RgbImage(int w, int h) : width(w), height(h), rgb(size_t(w) * h * 3, 0.0f) {}
+    float* pixel(int x, int y) { return &rgb[(size_t(y) * width + x) * 3]; }
+    const float* pixel(int x, int y) const { return &rgb[(size_t(y) * width + x) * 3]; }
+    void set(int x, int y, const std::array<double, 3>& c) {
+        float* p = pixel(x, y);
+        p[0] = float(c[0]);
+        p[1] = float(c[1]);
+        p[2] = float(c[2]);
+    }
+};
+
+// Film → linear sRGB through CIE RGB → XYZ → sRGB (core/spectrum.h), times `exposure`.
+// Non-finite values (which the renderer never produces on purpose) become 0, never NaN.
+RgbImage filmToRgb(const Film& film, double exposure = 1.0);
+
+}  // namespace lobe

@@ -1,0 +1,20 @@
+// Jittered (stratified) sample positions inside a pixel.
+#pragma once
+
+#include "core/math.h"
+#include "core/rng.h"
+
+namespace lobe {
+
+// The strata grid for n samples: rows × cols = n with the two as close to square as possible
+// (16 → 4×4, 8 → 2×4, 7 → 1×7), so every count the CLI accepts is stratified exactly.
+struct StrataGrid {
+    int rows = 1;
+    int cols = 1;
+};
+StrataGrid strataFor(int sampleCount);
+
+// Position in [0,1)² of sample `index` of `grid`: the stratum's corner plus a uniform jitter.
+Vec2 jitteredSample(const StrataGrid& grid, int index, Rng& rng);
+
+}  // namespace lobe

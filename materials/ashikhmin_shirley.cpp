@@ -1,0 +1,35 @@
+#include "materials/ashikhmin_shirley.h"
+
+namespace lobe {
+
+const ParamTable& AshikhminShirley::paramTable() {
+    static const ParamTable table = {
+        {"rs", 0.05, 0.0, 1.0, "specular reflectance at normal incidence (Schlick F0)", false},
+        {"nu", 10.0, 0.0, 1e6, "Phong exponent along the tangent", false},
+        {"nv", 1000.0, 0.0, 1e6, "Phong exponent along the bitangent", false},
+    };
+    return table;
+}
+
+AshikhminShirley AshikhminShirley::fromParams(const ParamValues& p) {
+    return AshikhminShirley{p.get("rs"), p.get("nu"), p.get("nv")};
+}
+
+Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
+    Vec3 h;
+    if (!aboveHorizon(wi, wo) || !halfVector(wi, wo, h)) return Spectrum(0.0);
+    const double hx2 = h.x * h.x, hy2 = h.y * h.y;
+    const double sin2 = hx2 + hy2;
+    const double hDotWi = h.dot(wi);  // > 0 since both directions are above the horizon
+    const double denom = hDotWi * std::max(wi.z, wo.z);
+    Spectrum f;
+    for (int b = 0; b < kBandCount; ++b) {
+        // At h = n, h.z^e = 1 for any e: take e = 1 (h.z = 1) instead of dividing 0 by 0.
+        const double e = sin2 > 0.0 ? (nu[b] * hx2 + nv[b] * hy2) / sin2 : 1.0;
+        const double norm = std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
+        f[b] = norm * std::pow(h.z, e) / denom * fresnelSchlick(rs[b], hDotWi);
+    }
+    return f;
+}
+
+}  // namespace lobe

@@ -1,0 +1,53 @@
+// Parameter tables: every model declares its parameters once, as {name, default, min, max, doc},
+// and the registry, the CLI (`lobe brdf list`), scene files and the tests all read that table.
+// Any parameter may be given per band ("eta=0.16,0.37,1.59"); a single value applies to all three
+// bands (shared/docs/brdf-models.md, "Conventions").
+#pragma once
+
+#include "core/spectrum.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace lobe {
+
+struct ParamSpec {
+    std::string name;
+    double defaultValue = 0.0;
+    double minValue = 0.0;
+    double maxValue = 0.0;
+    std::string doc;
+    bool integer = false;  // must be a whole number (and the same in every band)
+};
+
+using ParamTable = std::vector<ParamSpec>;
+
+// Validated values of one model's parameters: every parameter of its table, defaults filled in.
+class ParamValues {
+public:
+    ParamValues() = default;
+    // Defaults of `table`.
+    explicit ParamValues(const ParamTable& table);
+
+    // Value of a declared parameter; throws lobe::Error for an undeclared name (a bug).
+    const Spectrum& get(const std::string& name) const;
+    double scalar(const std::string& name) const { return get(name)[0]; }
+    void set(const std::string& name, const Spectrum& value) { values_[name] = value; }
+    const std::map<std::string, Spectrum>& all() const { return values_; }
+
+private:
+    std::map<std::string, Spectrum> values_;
+};
+
+// Parses "0.5" or "0.16,0.37,1.59" into a per-band value. `what` names the setting in errors.
+Spectrum parseBandValue(const std::string& text, const std::string& what);
+
+// Checks `value` against `spec` (range, integrality); throws lobe::Error naming `context`
+// (e.g. "ward: alpha_x" or "objects[2].brdf.alpha_x") and the allowed range.
+void validateParam(const ParamSpec& spec, const Spectrum& value, const std::string& context);
+
+// Formats a per-band value the way it is parsed: "0.8" when the bands agree, else "a,b,c".
+std::string formatBandValue(const Spectrum& value);
+
+}  // namespace lobe

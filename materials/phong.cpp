@@ -1,0 +1,23 @@
+#include "materials/phong.h"
+
+namespace lobe {
+
+const ParamTable& Phong::paramTable() {
+    static const ParamTable table = {
+        {"ks", 0.8, 0.0, 1.0, "specular coefficient", false},
+        {"exponent", 10.0, 0.0, 1e6, "shininess: power of cos α", false},
+    };
+    return table;
+}
+
+Phong Phong::fromParams(const ParamValues& p) { return Phong{p.get("ks"), p.get("exponent")}; }
+
+Spectrum Phong::eval(const Vec3& wi, const Vec3& wo) const {
+    if (!aboveHorizon(wi, wo)) return Spectrum(0.0);
+    const double c = cosAlpha(wi, wo);
+    Spectrum f;
+    for (int b = 0; b < kBandCount; ++b) f[b] = ks[b] * std::pow(c, exponent[b]);
+    return f;
+}
+
+}  // namespace lobe
