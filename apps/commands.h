@@ -9,5 +9,6 @@ class App;
 namespace lobe {
 
 void registerBrdfCommand(CLI::App& app);
+void registerGalleryCommands(CLI::App& app);
 
 }  // namespace lobe

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "lobe 0.1.0");
     lobe::registerBrdfCommand(app);
+    lobe::registerGalleryCommands(app);
 
     try {
         app.parse(argc, argv);

@@ -34,7 +34,7 @@ private:
     std::mutex printMutex_;
     std::chrono::steady_clock::time_point start_;
     std::chrono::steady_clock::time_point lastPrint_;
-    int lastDecile_ = -1;
+    int lastDecile_ = 0;  // a log gets its first line after a tenth of the work
 };
 
 // "1.2 s", "3 min 04 s", "2 h 05 min": durations for people.
