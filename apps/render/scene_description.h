@@ -1,0 +1,90 @@
+// What a scene file says, validated and with paths resolved, before anything is loaded: camera,
+// lights, backdrop, objects (iso-surfaces and volumes, each with its own BRDF), image and sampling
+// settings. apps/render/scene_file.h reads it from JSON; apps/render/render_scene.h builds it.
+#pragma once
+
+#include "core/camera.h"
+#include "core/light.h"
+#include "materials/material.h"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lobe {
+
+// Where an object's voxels come from and how their values are mapped before use.
+struct VolumeSourceSpec {
+    std::string path;                            // resolved (relative to the scene file's folder)
+    std::optional<std::array<int, 3>> dims;      // raw files only
+    std::string type;                            // raw files only: uint8, int16, float32, ...
+    std::string endian = "little";               // raw files only
+    std::array<double, 3> spacing{1.0, 1.0, 1.0};  // raw files only
+    double divideBy = 1.0;                       // value ↦ value / divideBy (CThead: 3272)
+    double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
+};
+
+// Object-to-world map: world = linear · p + translation, p in the volume's own world space
+// (index × spacing for raw files, the NIfTI affine's millimetres for NIfTI).
+struct ObjectTransform {
+    std::array<std::array<double, 3>, 3> linear{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    std::array<double, 3> translation{0, 0, 0};
+};
+
+struct TransferPoint {
+    double value = 0.0;
+    double opacity = 0.0;       // per voxel length
+    Spectrum color{1.0};        // band values
+};
+
+struct ObjectSpec {
+    enum class Kind { IsoSurface, Volume };
+    std::string name;
+    Kind kind = Kind::IsoSurface;
+    VolumeSourceSpec source;
+    ObjectTransform transform;
+    Material material;
+    std::string brdfModel;
+    Vec3 tangentAxis{0, 0, 1};   // anisotropy direction: this object axis projected on the surface
+    // Iso-surfaces
+    double iso = 0.5;
+    std::string method = "exact";  // exact | mesh
+    double opacity = 1.0;
+    Spectrum color{1.0};           // surface colour multiplying the reflected light
+    // Volumes
+    std::vector<TransferPoint> transfer;  // piecewise linear in value
+    std::string reconstruction = "trilinear";  // trilinear | bspline
+    std::string gradient = "central";          // central | bspline
+};
+
+struct BackdropSpec {
+    bool enabled = true;
+    uint64_t seed = 7;
+    double ambient = 0.2;
+    double diffuse = 0.3;
+    int cells = 24;       // random colour cells across the backdrop before blurring
+    double blur = 1.5;    // Gaussian blur, in cells
+};
+
+struct SceneSpec {
+    std::string path;  // the scene file
+    int width = 1024;
+    int height = 1024;
+    int samplesPerPixel = 8;
+    uint64_t seed = 1;
+    double exposure = 1.0;
+    Vec3 cameraPosition{0, 0, 4};
+    Vec3 cameraTarget{0, 0, 0};
+    Vec3 cameraUp{0, 1, 0};
+    double fovDegrees = 30.0;
+    CropWindow crop;
+    std::vector<PointLight> lights;
+    BackdropSpec backdrop;
+    double volumeStepVoxels = 0.05;
+    double terminationTransmittance = 1e-3;
+    std::vector<ObjectSpec> objects;
+};
+
+}  // namespace lobe

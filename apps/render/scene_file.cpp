@@ -1,0 +1,370 @@
+#include "apps/render/scene_file.h"
+
+#include "core/error.h"
+#include "materials/registry.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace lobe {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+// A JSON object being read, with its key path for messages. Every key must be consumed or
+// listed; whatever is left is reported as unknown, so a typo is never silently ignored.
+class Reader {
+public:
+    Reader(const Json& j, std::string path, const std::string& file)
+        : j_(j), path_(std::move(path)), file_(file) {
+        if (!j_.is_object()) fail(path_, "expected an object");
+    }
+
+    [[noreturn]] void fail(const std::string& at, const std::string& what) const {
+        throw Error(file_ + ": " + (at.empty() ? "top level" : at) + ": " + what);
+    }
+    std::string at(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+    bool has(const std::string& key) const { return j_.contains(key); }
+
+    const Json& raw(const std::string& key) {
+        used_.insert(key);
+        return j_.at(key);
+    }
+
+    double number(const std::string& key, double def, double lo, double hi) {
+        if (!has(key)) return def;
+        const Json& v = raw(key);
+        if (!v.is_number()) fail(at(key), "expected a number, got " + std::string(v.type_name()));
+        const double x = v.get<double>();
+        if (!(x >= lo && x <= hi))
+            fail(at(key), "value " + v.dump() + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
+        return x;
+    }
+    int integer(const std::string& key, int def, int lo, int hi) {
+        if (!has(key)) return def;
+        const Json& v = raw(key);
+        if (!v.is_number_integer()) fail(at(key), "expected a whole number, got " + v.dump());
+        const long long x = v.get<long long>();
+        if (x < lo || x > hi)
+            fail(at(key), "value " + v.dump() + " is outside [" + std::to_string(lo) + ", " +
+                              std::to_string(hi) + "]");
+        return int(x);
+    }
+    bool boolean(const std::string& key, bool def) {
+        if (!has(key)) return def;
+        const Json& v = raw(key);
+        if (!v.is_boolean()) fail(at(key), "expected true or false, got " + v.dump());
+        return v.get<bool>();
+    }
+    std::string string(const std::string& key, const std::string& def,
+                       const std::vector<std::string>& allowed = {}) {
+        if (!has(key)) return def;
+        const Json& v = raw(key);
+        if (!v.is_string()) fail(at(key), "expected a string, got " + v.dump());
+        const std::string s = v.get<std::string>();
+        if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
+            std::string list;
+            for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+            fail(at(key), "'" + s + "' is not one of: " + list);
+        }
+        return s;
+    }
+    std::string requiredString(const std::string& key) {
+        if (!has(key)) fail(at(key), "missing (a string is required)");
+        return string(key, "");
+    }
+    std::vector<double> numbers(const Json& v, const std::string& where, size_t count) const {
+        if (!v.is_array() || v.size() != count)
+            fail(where, "expected an array of " + std::to_string(count) + " numbers, got " + v.dump());
+        std::vector<double> out;
+        for (const Json& x : v) {
+            if (!x.is_number()) fail(where, "expected numbers, got " + v.dump());
+            out.push_back(x.get<double>());
+        }
+        return out;
+    }
+    Vec3 vec3(const std::string& key, const Vec3& def) {
+        if (!has(key)) return def;
+        const auto v = numbers(raw(key), at(key), 3);
+        return Vec3(v[0], v[1], v[2]);
+    }
+    // One number for all bands or [700, 546.1, 435.8] values.
+    Spectrum bands(const std::string& key, const Spectrum& def, double lo, double hi) {
+        if (!has(key)) return def;
+        const Json& v = raw(key);
+        Spectrum s;
+        if (v.is_number()) {
+            s = Spectrum(v.get<double>());
+        } else {
+            const auto n = numbers(v, at(key), 3);
+            s = Spectrum(n[0], n[1], n[2]);
+        }
+        for (int b = 0; b < 3; ++b)
+            if (!(s[b] >= lo && s[b] <= hi))
+                fail(at(key), "value " + v.dump() + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
+        return s;
+    }
+    Reader child(const std::string& key) { return Reader(raw(key), at(key), file_); }
+
+    // Call when done: every key not consumed is an error.
+    void finish() const {
+        for (auto it = j_.begin(); it != j_.end(); ++it)
+            if (!used_.count(it.key())) fail(at(it.key()), "unknown key");
+    }
+    const std::string& file() const { return file_; }
+    const std::string& path() const { return path_; }
+
+private:
+    static std::string fmt(double x) {
+        std::ostringstream ss;
+        ss << x;
+        return ss.str();
+    }
+    const Json& j_;
+    std::string path_;
+    const std::string& file_;
+    std::set<std::string> used_;
+};
+
+std::string resolvePath(const std::string& p, const std::string& baseDir) {
+    const fs::path path(p);
+    return path.is_absolute() ? p : (fs::path(baseDir) / path).lexically_normal().string();
+}
+
+VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
+    VolumeSourceSpec s;
+    s.path = resolvePath(r.requiredString("path"), baseDir);
+    if (!fs::exists(s.path)) r.fail(r.at("path"), "file '" + s.path + "' does not exist");
+    if (r.has("dims")) {
+        const auto d = r.numbers(r.raw("dims"), r.at("dims"), 3);
+        std::array<int, 3> dims{};
+        for (int i = 0; i < 3; ++i) {
+            if (d[i] < 1 || d[i] > 65536 || d[i] != std::floor(d[i]))
+                r.fail(r.at("dims"), "expected three whole numbers in [1, 65536]");
+            dims[i] = int(d[i]);
+        }
+        s.dims = dims;
+    }
+    s.type = r.string("type", "",
+                      {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"});
+    s.endian = r.string("endian", "little", {"little", "big"});
+    if (r.has("spacing")) {
+        const auto v = r.numbers(r.raw("spacing"), r.at("spacing"), 3);
+        for (int i = 0; i < 3; ++i) {
+            if (!(v[i] > 0)) r.fail(r.at("spacing"), "spacing must be positive");
+            s.spacing[i] = v[i];
+        }
+    }
+    s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
+    s.blurFwhmMm = r.number("blur_fwhm_mm", 0.0, 0.0, 100.0);
+    r.finish();
+    return s;
+}
+
+ObjectTransform readTransform(Reader r) {
+    ObjectTransform t;
+    if (r.has("matrix")) {
+        const Json& m = r.raw("matrix");
+        if (!m.is_array() || m.size() != 3)
+            r.fail(r.at("matrix"), "expected 3 rows of 4 numbers (linear part | translation)");
+        for (int i = 0; i < 3; ++i) {
+            const auto row = r.numbers(m[i], r.at("matrix") + "[" + std::to_string(i) + "]", 4);
+            for (int j = 0; j < 3; ++j) t.linear[i][j] = row[j];
+            t.translation[i] = row[3];
+        }
+        if (r.has("scale") || r.has("translate"))
+            r.fail(r.path(), "give either matrix or scale/translate, not both");
+    } else {
+        const Vec3 s = r.vec3("scale", Vec3(1, 1, 1));
+        const Vec3 tr = r.vec3("translate", Vec3(0, 0, 0));
+        t.linear = {{{s.x, 0, 0}, {0, s.y, 0}, {0, 0, s.z}}};
+        t.translation = {tr.x, tr.y, tr.z};
+    }
+    const auto& L = t.linear;
+    const double det = L[0][0] * (L[1][1] * L[2][2] - L[1][2] * L[2][1]) -
+                       L[0][1] * (L[1][0] * L[2][2] - L[1][2] * L[2][0]) +
+                       L[0][2] * (L[1][0] * L[2][1] - L[1][1] * L[2][0]);
+    if (!(std::abs(det) > 1e-12)) r.fail(r.path(), "the transform is singular (determinant 0)");
+    r.finish();
+    return t;
+}
+
+void readBrdf(Reader r, ObjectSpec& object) {
+    object.brdfModel = r.requiredString("model");
+    const std::string context = r.at("model");
+    const BrdfModelInfo* model = nullptr;
+    try {
+        model = &findBrdfModel(object.brdfModel);
+    } catch (const Error& e) {
+        r.fail(context, e.what());
+    }
+    ParamValues values(*model->params);
+    for (const ParamSpec& spec : *model->params) {
+        if (!r.has(spec.name)) continue;
+        const Spectrum v = r.bands(spec.name, Spectrum(spec.defaultValue), -1e300, 1e300);
+        setBrdfParam(*model, values, spec.name, v, r.file() + ": " + r.path());
+    }
+    object.material.specular = model->create(values);
+    r.finish();  // any other key is not a parameter of this model
+}
+
+std::vector<TransferPoint> readTransfer(Reader r) {
+    std::vector<TransferPoint> points;
+    const Json& pts = r.raw("points");
+    const std::string where = r.at("points");
+    if (!pts.is_array() || pts.empty())
+        r.fail(where, "expected a non-empty array of {value, opacity, color}");
+    for (size_t i = 0; i < pts.size(); ++i) {
+        Reader p(pts[i], where + "[" + std::to_string(i) + "]", r.file());
+        TransferPoint tp;
+        if (!p.has("value")) p.fail(p.at("value"), "missing");
+        tp.value = p.number("value", 0.0, -1e12, 1e12);
+        tp.opacity = p.number("opacity", 0.0, 0.0, 1.0);
+        tp.color = p.bands("color", Spectrum(1.0), 0.0, 1e6);
+        p.finish();
+        if (!points.empty() && !(tp.value > points.back().value))
+            p.fail(p.at("value"), "points must be in increasing order of value");
+        points.push_back(tp);
+    }
+    r.finish();
+    return points;
+}
+
+ObjectSpec readObject(Reader r, const std::string& baseDir) {
+    ObjectSpec o;
+    o.name = r.string("name", r.path());
+    const std::string kind = r.string("kind", "", {"isosurface", "volume"});
+    if (kind.empty()) r.fail(r.at("kind"), "missing (isosurface or volume)");
+    o.kind = kind == "volume" ? ObjectSpec::Kind::Volume : ObjectSpec::Kind::IsoSurface;
+    if (!r.has("source")) r.fail(r.at("source"), "missing");
+    o.source = readSource(r.child("source"), baseDir);
+    if (r.has("transform")) o.transform = readTransform(r.child("transform"));
+    if (!r.has("brdf")) r.fail(r.at("brdf"), "missing ({\"model\": NAME, parameters...})");
+    readBrdf(r.child("brdf"), o);
+    o.material.kd = r.bands("kd", Spectrum(0.2), 0.0, 1.0);
+    o.tangentAxis = r.vec3("tangent_axis", Vec3(0, 0, 1));
+    if (!(o.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
+    o.tangentAxis.normalize();
+    if (o.kind == ObjectSpec::Kind::IsoSurface) {
+        if (!r.has("iso")) r.fail(r.at("iso"), "missing (the iso value)");
+        o.iso = r.number("iso", 0.5, -1e12, 1e12);
+        o.method = r.string("method", "exact", {"exact", "mesh"});
+        o.opacity = r.number("opacity", 1.0, 0.0, 1.0);
+        o.color = r.bands("color", Spectrum(1.0), 0.0, 1e6);
+    } else {
+        if (!r.has("transfer_function")) r.fail(r.at("transfer_function"), "missing");
+        o.transfer = readTransfer(r.child("transfer_function"));
+        o.reconstruction = r.string("reconstruction", "trilinear", {"trilinear", "bspline"});
+        o.gradient = r.string("gradient", "central", {"central", "bspline"});
+    }
+    r.finish();
+    return o;
+}
+
+}  // namespace
+
+SceneSpec parseScene(const std::string& text, const std::string& baseDir, const std::string& name) {
+    Json root;
+    try {
+        root = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        // Translate the byte offset into a line and column people can find.
+        size_t line = 1, column = 1;
+        for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+            if (text[i] == '\n') {
+                ++line;
+                column = 1;
+            } else {
+                ++column;
+            }
+        }
+        throw Error(name + ": invalid JSON at line " + std::to_string(line) + ", column " +
+                    std::to_string(column));
+    }
+    SceneSpec scene;
+    scene.path = name;
+    Reader r(root, "", name);
+    if (r.has("image")) {
+        Reader img = r.child("image");
+        scene.width = img.integer("width", scene.width, 1, 16384);
+        scene.height = img.integer("height", scene.height, 1, 16384);
+        scene.samplesPerPixel = img.integer("samples_per_pixel", scene.samplesPerPixel, 1, 4096);
+        scene.seed = uint64_t(img.integer("seed", 1, 0, 2147483647));
+        scene.exposure = img.number("exposure", 1.0, 1e-6, 1e6);
+        img.finish();
+    }
+    if (!r.has("camera")) r.fail("camera", "missing");
+    {
+        Reader cam = r.child("camera");
+        scene.cameraPosition = cam.vec3("position", scene.cameraPosition);
+        scene.cameraTarget = cam.vec3("target", scene.cameraTarget);
+        scene.cameraUp = cam.vec3("up", scene.cameraUp);
+        scene.fovDegrees = cam.number("fov_deg", scene.fovDegrees, 0.01, 179.0);
+        if (cam.has("crop")) {
+            const auto c = cam.numbers(cam.raw("crop"), cam.at("crop"), 4);
+            scene.crop = CropWindow{c[0], c[1], c[2], c[3]};
+            if (!(c[0] >= 0 && c[2] <= 1 && c[1] >= 0 && c[3] <= 1 && c[0] < c[2] && c[1] < c[3]))
+                cam.fail(cam.at("crop"), "expected [x0, y0, x1, y1] with 0 <= x0 < x1 <= 1 and "
+                                         "0 <= y0 < y1 <= 1");
+        }
+        cam.finish();
+        try {  // the camera's own checks (position = target, up parallel to the view)
+            PinholeCamera(scene.cameraPosition, scene.cameraTarget, scene.cameraUp,
+                          scene.fovDegrees, double(scene.width) / scene.height, scene.crop);
+        } catch (const Error& e) {
+            r.fail("camera", e.what());
+        }
+    }
+    if (r.has("lights")) {
+        const Json& lights = r.raw("lights");
+        if (!lights.is_array()) r.fail("lights", "expected an array");
+        for (size_t i = 0; i < lights.size(); ++i) {
+            Reader l(lights[i], "lights[" + std::to_string(i) + "]", name);
+            PointLight light;
+            if (!l.has("position")) l.fail(l.at("position"), "missing");
+            light.position = l.vec3("position", Vec3(0));
+            light.intensity = l.bands("intensity", Spectrum(1.0), 0.0, 1e12);
+            l.finish();
+            scene.lights.push_back(light);
+        }
+    }
+    if (r.has("backdrop")) {
+        Reader b = r.child("backdrop");
+        scene.backdrop.enabled = b.boolean("enabled", true);
+        scene.backdrop.seed = uint64_t(b.integer("seed", 7, 0, 2147483647));
+        scene.backdrop.ambient = b.number("ambient", 0.2, 0.0, 10.0);
+        scene.backdrop.diffuse = b.number("diffuse", 0.3, 0.0, 10.0);
+        scene.backdrop.cells = b.integer("cells", 24, 1, 1024);
+        scene.backdrop.blur = b.number("blur", 1.5, 0.0, 100.0);
+        b.finish();
+    }
+    if (r.has("volume")) {
+        Reader v = r.child("volume");
+        scene.volumeStepVoxels = v.number("step_voxels", 0.05, 1e-3, 16.0);
+        scene.terminationTransmittance = v.number("termination_transmittance", 1e-3, 0.0, 0.5);
+        v.finish();
+    }
+    if (!r.has("objects")) r.fail("objects", "missing (an array of objects)");
+    const Json& objects = r.raw("objects");
+    if (!objects.is_array()) r.fail("objects", "expected an array");
+    for (size_t i = 0; i < objects.size(); ++i)
+        scene.objects.push_back(
+            readObject(Reader(objects[i], "objects[" + std::to_string(i) + "]", name), baseDir));
+    r.finish();
+    return scene;
+}
+
+SceneSpec loadSceneFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error("cannot open scene file '" + path + "'");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parseScene(ss.str(), fs::path(path).parent_path().string(), path);
+}
+
+}  // namespace lobe

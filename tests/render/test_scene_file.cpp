@@ -1,0 +1,105 @@
+#include "apps/render/scene_file.h"
+
+#include "core/error.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace lobe {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A tiny scene whose source file exists (this test file itself stands in for a volume: the
+// parser checks existence, not contents).
+std::string validScene(const std::string& objectExtra = "", const std::string& brdfExtra = "") {
+    return R"({
+      "image": {"width": 64, "height": 32, "samples_per_pixel": 4, "seed": 3},
+      "camera": {"position": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_deg": 40},
+      "lights": [{"position": [1, 2, 3], "intensity": [1, 2, 3]}],
+      "volume": {"step_voxels": 0.1},
+      "objects": [{
+        "name": "skull", "kind": "isosurface", "iso": 0.5, "opacity": 0.97,
+        "source": {"path": "test_scene_file.cpp"},
+        "transform": {"scale": [1, -1, 2], "translate": [10, 0, 0]},
+        "brdf": {"model": "ward", "alpha_x": 0.1)" + brdfExtra + R"(}, "kd": 0.2)" + objectExtra + R"(
+      }]
+    })";
+}
+
+const std::string kBase = std::string(LOBE_SOURCE_DIR) + "/tests/render";
+
+std::string errorOf(const std::string& text) {
+    try {
+        parseScene(text, kBase, "scene.json");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(SceneFile, ValidSceneIsRead) {
+    const SceneSpec s = parseScene(validScene(), kBase, "scene.json");
+    EXPECT_EQ(s.width, 64);
+    EXPECT_EQ(s.height, 32);
+    EXPECT_EQ(s.samplesPerPixel, 4);
+    EXPECT_EQ(s.seed, 3u);
+    EXPECT_DOUBLE_EQ(s.volumeStepVoxels, 0.1);
+    ASSERT_EQ(s.lights.size(), 1u);
+    EXPECT_DOUBLE_EQ(s.lights[0].intensity[2], 3.0);
+    ASSERT_EQ(s.objects.size(), 1u);
+    const ObjectSpec& o = s.objects[0];
+    EXPECT_EQ(o.name, "skull");
+    EXPECT_DOUBLE_EQ(o.opacity, 0.97);
+    EXPECT_DOUBLE_EQ(o.transform.linear[1][1], -1.0);
+    EXPECT_DOUBLE_EQ(o.transform.translation[0], 10.0);
+    EXPECT_DOUBLE_EQ(std::get<Ward>(o.material.specular).alphaX[0], 0.1);
+    EXPECT_DOUBLE_EQ(std::get<Ward>(o.material.specular).alphaY[0], 0.3);  // default
+    EXPECT_TRUE(fs::path(o.source.path).is_absolute());
+}
+
+TEST(SceneFile, ErrorsNameTheKeyPath) {
+    const std::string range = errorOf(validScene("", ", \"alpha_y\": -1"));
+    EXPECT_NE(range.find("objects[0].brdf.alpha_y"), std::string::npos) << range;
+    const std::string unknownParam = errorOf(validScene("", ", \"alpha\": 1"));
+    EXPECT_NE(unknownParam.find("objects[0].brdf.alpha: unknown key"), std::string::npos)
+        << unknownParam;
+    const std::string unknownKey = errorOf(validScene(", \"opacityy\": 1"));
+    EXPECT_NE(unknownKey.find("objects[0].opacityy: unknown key"), std::string::npos) << unknownKey;
+    const std::string wrongType = errorOf(validScene(", \"method\": 3"));
+    EXPECT_NE(wrongType.find("objects[0].method: expected a string"), std::string::npos)
+        << wrongType;
+    const std::string badMethod = errorOf(validScene(", \"method\": \"voxels\""));
+    EXPECT_NE(badMethod.find("not one of: exact, mesh"), std::string::npos) << badMethod;
+}
+
+TEST(SceneFile, MissingFileUnknownModelAndSyntaxErrors) {
+    std::string text = validScene();
+    text.replace(text.find("test_scene_file.cpp"), 19, "no_such_volume.nii");
+    EXPECT_NE(errorOf(text).find("objects[0].source.path: file"), std::string::npos);
+    std::string model = validScene();
+    model.replace(model.find("\"ward\""), 6, "\"blinn\"");
+    model.replace(model.find(", \"alpha_x\": 0.1"), 16, "");
+    EXPECT_NE(errorOf(model).find("unknown BRDF model 'blinn'"), std::string::npos)
+        << errorOf(model);
+    const std::string syntax = errorOf("{\n  \"image\": {\"width\": 64,,}\n}");
+    EXPECT_NE(syntax.find("invalid JSON at line 2"), std::string::npos) << syntax;
+    EXPECT_NE(errorOf("{\"objects\": []}").find("camera: missing"), std::string::npos);
+    const std::string cam = errorOf(
+        R"({"camera": {"position": [0,0,1], "target": [0,0,1]}, "objects": []})");
+    EXPECT_NE(cam.find("same point"), std::string::npos) << cam;
+}
+
+TEST(SceneFile, PerBandBrdfValuesAndSingularTransform) {
+    const SceneSpec s = parseScene(validScene("", ", \"rho_s\": [0.1, 0.2, 0.3]"), kBase, "s");
+    EXPECT_DOUBLE_EQ(std::get<Ward>(s.objects[0].material.specular).rhoS[1], 0.2);
+    std::string text = validScene();
+    text.replace(text.find("[1, -1, 2]"), 10, "[1, 0, 2]");
+    EXPECT_NE(errorOf(text).find("singular"), std::string::npos);
+}
+
+}  // namespace lobe
