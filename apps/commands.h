@@ -10,5 +10,6 @@ namespace lobe {
 
 void registerBrdfCommand(CLI::App& app);
 void registerGalleryCommands(CLI::App& app);
+void registerOverlapCommand(CLI::App& app);
 
 }  // namespace lobe

@@ -1,0 +1,291 @@
+// The flux-overlap standard test: lattices, pair scores, ranking (shared/docs/flux-overlap.md).
+#include "apps/overlap/standard_test.h"
+
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/frame.h"
+#include "core/light.h"
+#include "core/progress.h"
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "core/tile_scheduler.h"
+#include "materials/registry.h"
+#include "surface/implicit_primitives.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace lobe {
+
+const std::array<const char*, kStandardPrimitiveCount> kStandardPrimitiveNames = {
+    "sphere", "torus", "superquadric"};
+
+namespace {
+
+constexpr int kTileSize = 32;
+constexpr int kMaxSize = 8192;
+constexpr int kMaxSamples = 4096;
+
+// flux-overlap.md, "Lights": three point lights of unit intensity, no shadows.
+const std::array<Vec3, 3> kLightPositions = {Vec3(-3, 3, 3), Vec3(3, 2, 3), Vec3(0, -3, 2.5)};
+
+std::vector<std::string> testModels(const StandardTestOptions& options) {
+    return options.models.empty() ? specularModelNames() : options.models;
+}
+
+}  // namespace
+
+int LatticeSet::modelIndex(const std::string& name) const {
+    for (size_t i = 0; i < models.size(); ++i)
+        if (models[i] == name) return int(i);
+    return -1;
+}
+
+void validateStandardTestOptions(const StandardTestOptions& options) {
+    if (options.size < 1 || options.size > kMaxSize)
+        throw Error("--size: expected a lattice side in [1, " + std::to_string(kMaxSize) +
+                    "], got " + std::to_string(options.size));
+    if (options.samplesPerPixel < 1 || options.samplesPerPixel > kMaxSamples)
+        throw Error("--spp: expected samples per pixel in [1, " + std::to_string(kMaxSamples) +
+                    "], got " + std::to_string(options.samplesPerPixel));
+    if (!(options.threshold >= 0.0) || !std::isfinite(options.threshold))
+        throw Error("threshold must be a finite number >= 0");
+    const std::vector<std::string> models = testModels(options);
+    if (models.size() < 2) throw Error("the flux-overlap test needs at least two models");
+    for (const std::string& m : models) findBrdfModel(m);
+    for (const auto& [model, settings] : options.settings) {
+        if (std::find(models.begin(), models.end(), model) == models.end())
+            throw Error("--set " + model + ".…: '" + model +
+                        "' is not one of the models of the test");
+        parseBrdfSettings(findBrdfModel(model), settings, "--set " + model);
+    }
+}
+
+LatticeSet renderStandardLattices(const StandardTestOptions& options) {
+    validateStandardTestOptions(options);
+    LatticeSet set;
+    set.size = options.size;
+    set.models = testModels(options);
+    const int modelCount = int(set.models.size());
+    set.data.assign(size_t(modelCount) * kStandardPrimitiveCount * 3 * set.latticeSize(), 0.0f);
+
+    std::vector<Brdf> brdfs;
+    for (const std::string& m : set.models) {
+        const auto it = options.settings.find(m);
+        brdfs.push_back(makeBrdf(m, it == options.settings.end() ? std::vector<std::string>{}
+                                                                 : it->second));
+    }
+    std::vector<ImplicitPrimitive> primitives;
+    for (const char* name : kStandardPrimitiveNames)
+        primitives.push_back(ImplicitPrimitive::byName(name));
+
+    // flux-overlap.md, "Camera": pinhole at (0,0,4) looking at the origin, up y, 40° vertical.
+    const PinholeCamera camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 1.0);
+    const int size = options.size;
+    const int spp = options.samplesPerPixel;
+    const StrataGrid grid = strataFor(spp);
+
+    struct Task {
+        int primitive;
+        int x0, y0, x1, y1;
+    };
+    std::vector<Task> tasks;
+    for (int p = 0; p < kStandardPrimitiveCount; ++p)
+        for (int y = 0; y < size; y += kTileSize)
+            for (int x = 0; x < size; x += kTileSize)
+                tasks.push_back(
+                    {p, x, y, std::min(x + kTileSize, size), std::min(y + kTileSize, size)});
+
+    ProgressReporter progress("overlap lattices", int64_t(tasks.size()), options.progress);
+    runWithThreads(options.threads, [&] {
+        tbb::parallel_for(
+            tbb::blocked_range<size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+                setFlushToZero();
+                std::vector<Spectrum> acc(modelCount);
+                for (size_t ti = r.begin(); ti != r.end(); ++ti) {
+                    const Task& task = tasks[ti];
+                    const ImplicitPrimitive& prim = primitives[task.primitive];
+                    for (int y = task.y0; y < task.y1; ++y)
+                        for (int x = task.x0; x < task.x1; ++x) {
+                            std::fill(acc.begin(), acc.end(), Spectrum(0.0));
+                            for (int s = 0; s < spp; ++s) {
+                                Rng rng = pixelSampleRng(options.seed, uint32_t(x), uint32_t(y),
+                                                         uint32_t(s));
+                                const Vec2 j = jitteredSample(grid, s, rng);
+                                const Ray ray =
+                                    camera.generateRay((x + j.x) / size, (y + j.y) / size);
+                                ImplicitHit hit;
+                                if (!prim.intersect(ray, hit)) continue;  // a miss is 0
+                                // flux-overlap.md, "Tangent field": a = world y, or world x
+                                // where |a × n| < 1e-3.
+                                const Frame frame = Frame::fromNormalAndAxis(
+                                    hit.n, Vec3(0, 1, 0), Vec3(1, 0, 0), 1e-3);
+                                const Vec3 wo = frame.toLocal(-ray.d);
+                                if (wo.z <= 0.0) continue;  // f_s = 0 (brdf-models.md)
+                                for (const Vec3& lightPos : kLightPositions) {
+                                    const Vec3 toLight = lightPos - hit.p;
+                                    const double d2 = toLight.length2();
+                                    const Vec3 wi = frame.toLocal(toLight / std::sqrt(d2));
+                                    if (wi.z <= 0.0) continue;  // light below the surface
+                                    // I/d² · cos θi with I = 1 (eq. 1.20 for a point light)
+                                    const double weight = wi.z / d2;
+                                    for (int m = 0; m < modelCount; ++m)
+                                        acc[m] += evalBrdf(brdfs[m], wi, wo) * weight;
+                                }
+                            }
+                            const size_t pixel = size_t(y) * size + x;
+                            for (int m = 0; m < modelCount; ++m)
+                                for (int band = 0; band < 3; ++band) {
+                                    const double v = acc[m][band] / spp;
+                                    set.lattice(m, task.primitive, band)[pixel] =
+                                        std::isfinite(v) ? float(v) : 0.0f;
+                                }
+                        }
+                    progress.advance();
+                }
+            });
+    });
+    progress.finish();
+    return set;
+}
+
+std::vector<PairScore> scoreAllPairs(const LatticeSet& lattices, double threshold,
+                                     OverlapVariant variant, int threads) {
+    const int n = int(lattices.models.size());
+    std::vector<PairScore> pairs;
+    for (int a = 0; a < n; ++a)
+        for (int b = a + 1; b < n; ++b) {
+            PairScore p;
+            p.a = a;
+            p.b = b;
+            p.modelA = lattices.models[a];
+            p.modelB = lattices.models[b];
+            pairs.push_back(p);
+        }
+    // One metric per (pair, primitive, band), each summed sequentially: deterministic.
+    const size_t perPair = size_t(kStandardPrimitiveCount) * 3;
+    std::vector<FluxOverlap> results(pairs.size() * perPair);
+    runWithThreads(threads, [&] {
+        tbb::parallel_for(size_t(0), results.size(), [&](size_t i) {
+            const PairScore& p = pairs[i / perPair];
+            const int primitive = int((i % perPair) / 3), band = int(i % 3);
+            results[i] = fluxOverlap(lattices.lattice(p.a, primitive, band),
+                                     lattices.lattice(p.b, primitive, band),
+                                     lattices.latticeSize(), threshold);
+        });
+    });
+    for (size_t k = 0; k < pairs.size(); ++k) {
+        PairScore& p = pairs[k];
+        // Score of a pair = mean of e over the 3 primitives × 3 bands (flux-overlap.md).
+        for (int primitive = 0; primitive < kStandardPrimitiveCount; ++primitive) {
+            double primSum = 0.0;
+            for (int band = 0; band < 3; ++band) {
+                const FluxOverlap& r = results[k * perPair + size_t(primitive) * 3 + band];
+                p.scoreSum += r.eSum / perPair;
+                p.scoreMse += r.eMse / perPair;
+                primSum += r.value(variant) / 3.0;
+            }
+            p.perPrimitive[primitive] = primSum;
+        }
+        p.score = variant == OverlapVariant::Sum ? p.scoreSum : p.scoreMse;
+    }
+    rankPairs(pairs);
+    return pairs;
+}
+
+void rankPairs(std::vector<PairScore>& pairs) {
+    std::stable_sort(pairs.begin(), pairs.end(), [](const PairScore& x, const PairScore& y) {
+        if (x.score != y.score) return x.score > y.score;
+        return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
+    });
+    for (size_t i = 0; i < pairs.size(); ++i)
+        pairs[i].rank = (i > 0 && pairs[i].score == pairs[i - 1].score) ? pairs[i - 1].rank
+                                                                       : int(i) + 1;
+}
+
+RankAgreement compareRankings(const std::vector<double>& x, const std::vector<double>& y) {
+    if (x.size() != y.size()) throw Error("compareRankings: lists of different length");
+    // Kendall's tau-b = (C − D) / sqrt((n0 − n1)(n0 − n2)), n1/n2 the pairs tied in x/y.
+    int64_t concordant = 0, discordant = 0, tiesX = 0, tiesY = 0, total = 0;
+    for (size_t i = 0; i < x.size(); ++i)
+        for (size_t j = i + 1; j < x.size(); ++j) {
+            ++total;
+            const double dx = x[i] - x[j], dy = y[i] - y[j];
+            if (dx == 0.0) ++tiesX;
+            if (dy == 0.0) ++tiesY;
+            if (dx == 0.0 || dy == 0.0) continue;
+            (dx * dy > 0.0 ? concordant : discordant)++;
+        }
+    RankAgreement r;
+    r.discordant = int(discordant);
+    r.comparable = int(concordant + discordant);
+    const double denom = std::sqrt(double(total - tiesX) * double(total - tiesY));
+    r.kendallTau = denom > 0.0 ? double(concordant - discordant) / denom : 1.0;
+    return r;
+}
+
+
+std::vector<StudyRow> runConvergenceStudy(const StandardTestOptions& base,
+                                          const std::vector<int>& sizes,
+                                          const std::vector<int>& samplesPerPixel,
+                                          OverlapVariant variant) {
+    if (sizes.empty() || samplesPerPixel.empty()) throw Error("convergence study: empty grid");
+    const auto run = [&](int size, int spp, double& seconds) {
+        StandardTestOptions o = base;
+        o.size = size;
+        o.samplesPerPixel = spp;
+        const auto start = std::chrono::steady_clock::now();
+        std::vector<PairScore> pairs =
+            scoreAllPairs(renderStandardLattices(o), o.threshold, variant, o.threads);
+        seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        // Back to pair order (a, b) so lists compare element by element.
+        std::sort(pairs.begin(), pairs.end(), [](const PairScore& x, const PairScore& y) {
+            return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
+        });
+        return pairs;
+    };
+    const int refSize = *std::max_element(sizes.begin(), sizes.end());
+    const int refSpp = *std::max_element(samplesPerPixel.begin(), samplesPerPixel.end());
+    double refSeconds = 0.0;
+    const std::vector<PairScore> ref = run(refSize, refSpp, refSeconds);
+    std::vector<double> refScores;
+    for (const PairScore& p : ref) refScores.push_back(p.score);
+    const auto bestOf = [](const std::vector<PairScore>& v, bool best) {
+        return *std::max_element(v.begin(), v.end(), [&](const PairScore& x, const PairScore& y) {
+            return best ? x.score < y.score : x.score > y.score;
+        });
+    };
+    const PairScore refBest = bestOf(ref, true), refWorst = bestOf(ref, false);
+
+    std::vector<StudyRow> rows;
+    for (int size : sizes)
+        for (int spp : samplesPerPixel) {
+            StudyRow row;
+            row.size = size;
+            row.samplesPerPixel = spp;
+            const std::vector<PairScore> pairs =
+                (size == refSize && spp == refSpp) ? ref : run(size, spp, row.seconds);
+            if (size == refSize && spp == refSpp) row.seconds = refSeconds;
+            std::vector<double> scores;
+            for (size_t i = 0; i < pairs.size(); ++i) {
+                scores.push_back(pairs[i].score);
+                const double rel = refScores[i] > 0.0
+                                       ? std::abs(pairs[i].score - refScores[i]) / refScores[i]
+                                       : std::abs(pairs[i].score);
+                row.maxRelChange = std::max(row.maxRelChange, rel);
+                row.meanRelChange += rel / double(pairs.size());
+            }
+            row.agreement = compareRankings(scores, refScores);
+            const PairScore best = bestOf(pairs, true), worst = bestOf(pairs, false);
+            row.sameBest = best.a == refBest.a && best.b == refBest.b;
+            row.sameWorst = worst.a == refWorst.a && worst.b == refWorst.b;
+            rows.push_back(row);
+        }
+    return rows;
+}
+
+}  // namespace lobe
