@@ -3,10 +3,15 @@
 // normalised here) gives one output line of three band values with 10 significant digits.
 #include "apps/commands.h"
 #include "core/error.h"
+#include "core/tile_scheduler.h"
+#include "materials/properties.h"
 #include "materials/registry.h"
 
 #include <CLI/CLI.hpp>
+#include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -66,6 +71,200 @@ void evalModel(const std::string& name, const std::vector<std::string>& settings
     }
 }
 
+// ---- `lobe brdf props`: the paper's Table 1 regenerated from measurements ----------------------
+
+struct PropsOptions {
+    bool csv = false;
+    bool perSetting = false;
+    int samples = 8192;
+    int threads = 0;
+    uint64_t seed = 20030101;
+};
+
+const char* yesNo(bool b) { return b ? "yes" : "no"; }
+
+// "yes (3/4)": the value at the defaults, then in how many of the model's measured settings
+// (defaults and sweep) the property holds.
+template <class Pred>
+std::string summaryCell(const std::vector<PropertyReport>& reports, const std::string& model,
+                        Pred pred) {
+    int holds = 0, total = 0;
+    bool atDefaults = false;
+    for (const PropertyReport& r : reports) {
+        if (r.setting.model != model) continue;
+        ++total;
+        holds += pred(r) ? 1 : 0;
+        if (r.setting.label == "defaults") atDefaults = pred(r);
+    }
+    return std::string(yesNo(atDefaults)) + " (" + std::to_string(holds) + "/" +
+           std::to_string(total) + ")";
+}
+
+const PropertyReport& defaultsReport(const std::vector<PropertyReport>& reports,
+                                     const std::string& model) {
+    for (const PropertyReport& r : reports)
+        if (r.setting.model == model && r.setting.label == "defaults") return r;
+    throw Error("internal: no defaults measurement for " + model);
+}
+
+std::string claimsText(bool plausible, bool fresnel, bool anisotropic, bool popular) {
+    std::string s;
+    const auto add = [&](bool on, const char* name) {
+        if (on) s += (s.empty() ? "" : ", ") + std::string(name);
+    };
+    add(plausible, "Physically plausible");
+    add(fresnel, "Fresnel behavior");
+    add(anisotropic, "anisotropic");
+    add(popular, "Popular");
+    return s.empty() ? "None" : s;
+}
+
+std::string csvField(const std::string& s) {
+    return s.find_first_of(",\"") == std::string::npos ? s : "\"" + s + "\"";
+}
+
+void printPerSetting(const std::vector<PropertyReport>& reports, bool csv) {
+    if (csv) {
+        std::printf("model,setting,reciprocity_error,max_albedo,max_albedo_stderr,theta_at_max_deg,"
+                    "anisotropy,albedo_80_over_0,albedo_80_over_0_stderr,reciprocal,"
+                    "energy_conserving,plausible,fresnel,anisotropic\n");
+        for (const PropertyReport& r : reports)
+            std::printf("%s,%s,%.3g,%.5g,%.2g,%g,%.3g,%.5g,%.2g,%s,%s,%s,%s,%s\n",
+                        r.setting.model.c_str(), csvField(r.setting.label).c_str(),
+                        r.reciprocityError, r.maxAlbedo.value, r.maxAlbedo.stdError,
+                        r.thetaAtMaxDeg, r.anisotropy, r.albedoRatio80To0.value,
+                        r.albedoRatio80To0.stdError, yesNo(r.reciprocal),
+                        yesNo(r.energyConserving), yesNo(r.plausible), yesNo(r.fresnel),
+                        yesNo(r.anisotropic));
+        return;
+    }
+    std::printf("| model | setting | reciprocity error | max a(θi) ± σ | at θi | anisotropy | "
+                "a(80°)/a(0°) | reciprocal | a ≤ 1 | plausible | Fresnel | anisotropic |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (const PropertyReport& r : reports)
+        std::printf("| %s | %s | %.2g | %.4g ± %.1g | %g° | %.2g | %.3g ± %.1g | %s | %s | %s | %s "
+                    "| %s |\n",
+                    r.setting.model.c_str(), r.setting.label.c_str(), r.reciprocityError,
+                    r.maxAlbedo.value, r.maxAlbedo.stdError, r.thetaAtMaxDeg, r.anisotropy,
+                    r.albedoRatio80To0.value, r.albedoRatio80To0.stdError, yesNo(r.reciprocal),
+                    yesNo(r.energyConserving), yesNo(r.plausible), yesNo(r.fresnel),
+                    yesNo(r.anisotropic));
+}
+
+// Table 1 of the paper (koldenhof-2003.md), one row per model in the paper's order, measured
+// columns beside the paper's claims. Popular cannot be measured: the paper's value is carried.
+void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
+    struct Row {
+        std::string model;
+        PaperClaims claims;
+    };
+    std::vector<Row> rows;
+    for (const BrdfModelInfo& m : brdfModels()) rows.push_back({m.name, paperClaims(m.name)});
+    // The paper's table is sorted by score, ties in its printed order; models it does not list
+    // (lambert) go last.
+    const char* paperOrder[] = {"poulin_fournier", "phong", "lafortune", "strauss",
+                                "schlick_lewis", "cook_torrance", "he_torrance",
+                                "ashikhmin_shirley", "ward"};
+    const auto rank = [&](const std::string& name) {
+        for (int i = 0; i < 9; ++i)
+            if (name == paperOrder[i]) return i;
+        return 9;
+    };
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](const Row& a, const Row& b) { return rank(a.model) < rank(b.model); });
+
+    if (csv)
+        std::printf("number,model,plausible,fresnel,anisotropic,popular_paper,score_measured,"
+                    "paper_properties,paper_score,disagreements\n");
+    else {
+        std::printf("| # | BRDF | Physically plausible | Fresnel behavior | Anisotropic | "
+                    "Popular (paper) | Score (measured) | Paper: properties | Paper: score | "
+                    "Disagreements |\n");
+        std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+    }
+    for (const Row& row : rows) {
+        const PropertyReport& d = defaultsReport(reports, row.model);
+        const PaperClaims& c = row.claims;
+        const int score = int(d.plausible) + int(d.fresnel) + int(d.anisotropic) +
+                          int(c.found && c.popular);
+        std::string disagree;
+        const auto check = [&](bool measured, bool claimed, const char* what) {
+            if (!c.found || measured == claimed) return;
+            disagree += (disagree.empty() ? "" : "; ") + std::string(what) + ": paper " +
+                        yesNo(claimed) + ", measured " + yesNo(measured);
+        };
+        check(d.plausible, c.plausible, "plausible");
+        check(d.fresnel, c.fresnel, "Fresnel");
+        check(d.anisotropic, c.anisotropic, "anisotropic");
+        const std::string plausible = summaryCell(reports, row.model, [](const PropertyReport& r) {
+            return r.plausible;
+        });
+        const std::string fresnel =
+            summaryCell(reports, row.model, [](const PropertyReport& r) { return r.fresnel; });
+        const std::string aniso = summaryCell(reports, row.model,
+                                              [](const PropertyReport& r) { return r.anisotropic; });
+        const std::string number = c.found ? std::to_string(c.number) : "-";
+        const std::string popular = c.found ? yesNo(c.popular) : "n/a";
+        const std::string paperProps = c.found ? claimsText(c.plausible, c.fresnel, c.anisotropic,
+                                                            c.popular)
+                                               : "not in the paper";
+        const std::string paperScore = c.found ? std::to_string(c.score) : "-";
+        if (csv)
+            std::printf("%s,%s,%s,%s,%s,%s,%d,%s,%s,%s\n", number.c_str(), row.model.c_str(),
+                        plausible.c_str(), fresnel.c_str(), aniso.c_str(), popular.c_str(), score,
+                        csvField(paperProps).c_str(), paperScore.c_str(),
+                        csvField(disagree).c_str());
+        else
+            std::printf("| %s | %s | %s | %s | %s | %s | %d | %s | %s | %s |\n", number.c_str(),
+                        row.model.c_str(), plausible.c_str(), fresnel.c_str(), aniso.c_str(),
+                        popular.c_str(), score, paperProps.c_str(), paperScore.c_str(),
+                        disagree.empty() ? "-" : disagree.c_str());
+    }
+}
+
+void measureAndPrint(const PropsOptions& o) {
+    if (o.samples < 64) throw Error("--samples " + std::to_string(o.samples) + ": must be ≥ 64");
+    if (o.threads < 0) throw Error("--threads " + std::to_string(o.threads) + ": must be ≥ 0");
+    PropertyOptions options;
+    options.albedoSamples = o.samples;
+    options.pairs = 8 * o.samples;
+    options.seed = o.seed;
+    const std::vector<ModelSetting> settings = propertySettings();
+    std::vector<PropertyReport> reports(settings.size());
+    const auto start = std::chrono::steady_clock::now();
+    runWithThreads(o.threads, [&] {
+        tbb::parallel_for(size_t(0), settings.size(), [&](size_t i) {
+            reports[i] = measureProperties(settings[i], options);
+        });
+    });
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (o.csv) {
+        if (o.perSetting)
+            printPerSetting(reports, true);
+        else
+            printTable1(reports, true);
+    } else {
+        std::printf("## Table 1, regenerated from measurements\n\n");
+        std::printf("Measured columns: the value at the model's defaults, then (k/N) the number of "
+                    "its N measured settings (defaults and sweep) where the property holds. "
+                    "Score = measured properties at the defaults + the paper's 'Popular' (not "
+                    "measurable, carried over).\n\n");
+        printTable1(reports, false);
+        std::printf("\n## Per setting\n\n");
+        std::printf("Albedo: %d samples per (θi, φi), θi ∈ {", o.samples);
+        for (size_t i = 0; i < albedoThetasDeg().size(); ++i)
+            std::printf("%s%g", i ? ", " : "", albedoThetasDeg()[i]);
+        std::printf("}°, max over φi ∈ {0, 45, 90}° and the three bands; reciprocity and "
+                    "anisotropy over %d pairs; thresholds: reciprocal if error ≤ %g, anisotropic "
+                    "if measure > %g, a ≤ 1 and Fresnel decided at %g σ.\n\n",
+                    options.pairs, kReciprocityTolerance, kAnisotropyTolerance, kSigmaThreshold);
+        printPerSetting(reports, false);
+    }
+    std::fprintf(stderr, "lobe brdf props: %zu settings measured in %.2f s\n", settings.size(),
+                 seconds);
+}
+
 }  // namespace
 
 void registerBrdfCommand(CLI::App& app) {
@@ -85,6 +284,23 @@ void registerBrdfCommand(CLI::App& app) {
     eval->add_option("MODEL", model, "model name (see 'lobe brdf list')")->required();
     eval->add_option("settings", settings, "parameter overrides key=value; per band key=a,b,c");
     eval->callback([] { evalModel(model, settings); });
+
+    CLI::App* props = brdf->add_subcommand(
+        "props",
+        "Measure every model (defaults and a documented parameter sweep): reciprocity error, "
+        "directional albedo over θi, anisotropy, Fresnel behaviour; print the paper's Table 1 "
+        "regenerated from the measurements beside the paper's claims (Markdown, or --csv)");
+    static PropsOptions propsOptions;
+    props->add_flag("--csv", propsOptions.csv, "CSV instead of Markdown (Table 1 only)");
+    props->add_flag("--per-setting", propsOptions.perSetting,
+                    "with --csv: one row per measured setting instead of Table 1");
+    props->add_option("--samples", propsOptions.samples,
+                      "albedo samples per (θi, φi) estimate (pairs for reciprocity/anisotropy: 8×)")
+        ->capture_default_str();
+    props->add_option("--threads", propsOptions.threads, "worker threads (0: all)")
+        ->capture_default_str();
+    props->add_option("--seed", propsOptions.seed, "random seed")->capture_default_str();
+    props->callback([] { measureAndPrint(propsOptions); });
 }
 
 }  // namespace lobe

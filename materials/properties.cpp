@@ -51,6 +51,31 @@ Vec3 sampleMirror(const Frame& frameR, const Vec2& u, double& alpha) {
     return frameR.toWorld(directionFromAngles(alpha, phi));
 }
 
+// Half vector h on the upper hemisphere with polar angle θh log-uniform in [kMinAlpha, π/2]
+// (p(θh) = 1/(θh·ln(π/2/kMinAlpha)), uniform azimuth), reflected: wo = 2(wi·h)h − wi. The map
+// h → wo has Jacobian dωo/dωh = 4|wo·h| (Walter et al. 2007, eq. 14), and every wo comes from
+// exactly one upper-hemisphere h (± normalize(wi + wo)). Resolves half-vector lobes (Ward,
+// Cook–Torrance, Ashikhmin–Shirley, He–Torrance) at grazing incidence, where their image in wo
+// is stretched and off the mirror direction.
+const double kLogHalfRange = std::log(0.5 * kPi / kMinAlpha);
+Vec3 sampleHalfVector(const Vec3& wi, const Vec2& u) {
+    const double thetaH = kMinAlpha * std::exp(u.x * kLogHalfRange);
+    const Vec3 h = directionFromAngles(thetaH, 2.0 * kPi * u.y);
+    return 2.0 * wi.dot(h) * h - wi;
+}
+double halfVectorPdf(const Vec3& wi, const Vec3& wo) {
+    const Vec3 sum = wi + wo;
+    const double len = sum.length();
+    if (!(len > 1e-12)) return 0.0;
+    Vec3 h = sum / len;
+    if (h.z < 0.0) h = -h;
+    const double sinH = std::sqrt(h.x * h.x + h.y * h.y);
+    const double thetaH = std::atan2(sinH, h.z);
+    const double cosWoH = std::abs(wo.dot(h));
+    if (!(thetaH >= kMinAlpha) || !(sinH > 0.0) || !(cosWoH > 0.0)) return 0.0;
+    return 1.0 / (thetaH * kLogHalfRange * 2.0 * kPi * sinH) / (4.0 * cosWoH);
+}
+
 // A random pair for the reciprocity and anisotropy measures: wi uniform on the upper hemisphere
 // (cos θi uniform in (0, 1], so grazing pairs are as likely as any), wo alternately uniform on the
 // hemisphere and drawn around the mirror direction, so that narrow lobes are hit.
@@ -169,27 +194,31 @@ SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI,
     if (replicas < 2) throw Error("directionalAlbedo: at least 2 replicas are needed");
     const Vec3 wi = directionFromAngles(thetaI, phiI);
     const Frame frameR = Frame::fromNormal(mirrorLocal(wi));
-    // Half of each replica's samples per component, at least one.
-    const int perComponent = std::max(1, samples / (2 * replicas));
+    // A third of each replica's samples per component, at least one.
+    const int perComponent = std::max(1, samples / (3 * replicas));
     const StrataGrid grid = strataFor(perComponent);
+    const auto pdfSum = [&](const Vec3& w) {
+        return cosinePdf(w) + mirrorPdf(frameR.n, w) + halfVectorPdf(wi, w);
+    };
     std::vector<Spectrum> estimates(replicas);
     for (int rep = 0; rep < replicas; ++rep) {
         Rng rng(mixBits(seed ^ mixBits(uint64_t(rep) + 0x51ed27)), 11);
         Spectrum sum(0.0);
         // Multi-sample MIS with the balance heuristic and equal counts n per component (Veach
-        // 1997, eq. 9.13): F = (1/n) Σ over both components' samples of g(w)/(p_cos(w) + p_mir(w)),
+        // 1997, eq. 9.13): F = (1/n) Σ over all components' samples of g(w)/Σ_k p_k(w),
         // g = f(wi, w)·cos θo.
-        for (int i = 0; i < perComponent; ++i) {
-            const Vec3 w = sampleCosine(jitteredSample(grid, i, rng));
-            const double p = cosinePdf(w) + mirrorPdf(frameR.n, w);
-            if (w.z > 0.0 && p > 0.0) sum += evalBrdf(brdf, wi, w) * (w.z / p);
-        }
+        const auto add = [&](const Vec3& w) {
+            if (!(w.z > 0.0)) return;
+            const double p = pdfSum(w);
+            if (p > 0.0 && std::isfinite(p)) sum += evalBrdf(brdf, wi, w) * (w.z / p);
+        };
+        for (int i = 0; i < perComponent; ++i) add(sampleCosine(jitteredSample(grid, i, rng)));
         for (int i = 0; i < perComponent; ++i) {
             double alpha;
-            const Vec3 w = sampleMirror(frameR, jitteredSample(grid, i, rng), alpha);
-            const double p = cosinePdf(w) + mirrorPdfOfAngle(alpha);
-            if (w.z > 0.0 && p > 0.0) sum += evalBrdf(brdf, wi, w) * (w.z / p);
+            add(sampleMirror(frameR, jitteredSample(grid, i, rng), alpha));
         }
+        for (int i = 0; i < perComponent; ++i)
+            add(sampleHalfVector(wi, jitteredSample(grid, i, rng)));
         estimates[rep] = sum * (1.0 / perComponent);
     }
     SpectrumEstimate out;

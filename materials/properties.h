@@ -30,12 +30,14 @@ struct Estimate {
 // local frame). `samples` evaluations in total, split into `replicas` independent stratified
 // estimates whose spread gives the standard error (replicas ≥ 2).
 //
-// Estimator: half the samples per replica from the cosine-weighted hemisphere, half from a
-// "scale-free" density around the mirror direction r(wi) (angle α from r log-uniform in
-// [1e-4, π], azimuth uniform), combined with Veach's balance heuristic (multi-sample MIS,
-// Veach 1997, eq. 9.13). The mirror component resolves lobes of any width from 1e-4 rad up with
-// a variance that grows only with log(width); the cosine component keeps the estimator unbiased
-// wherever the lobe is not near r(wi) (off-specular and retro-reflective lobes).
+// Estimator: a third of the samples per replica from each of three densities, combined with
+// Veach's balance heuristic (multi-sample MIS, Veach 1997, eq. 9.13): the cosine-weighted
+// hemisphere; a "scale-free" density around the mirror direction r(wi) (angle from r
+// log-uniform in [1e-4, π], azimuth uniform); and the same scale-free density for the half
+// vector about n, reflected into wo. The two scale-free densities resolve lobes of any width
+// from 1e-4 rad up, mirror-centred and half-vector (also at grazing incidence, where a
+// half-vector lobe is stretched and off the mirror direction), with a variance that grows only
+// with log(width); the cosine density covers everything else (off-specular, retro-reflection).
 struct SpectrumEstimate {
     Spectrum value;
     Spectrum stdError;
