@@ -58,9 +58,12 @@ void validateStandardTestOptions(const StandardTestOptions& options) {
     if (models.size() < 2) throw Error("the flux-overlap test needs at least two models");
     for (const std::string& m : models) findBrdfModel(m);
     for (const auto& [model, settings] : options.settings) {
-        if (std::find(models.begin(), models.end(), model) == models.end())
-            throw Error("--set " + model + ".…: '" + model +
-                        "' is not one of the models of the test");
+        if (std::find(models.begin(), models.end(), model) == models.end()) {
+            std::string names;
+            for (const std::string& m : models) names += (names.empty() ? "" : ", ") + m;
+            throw Error("--set " + model + ".KEY=VALUE: '" + model +
+                        "' is not one of the models of the test (" + names + ")");
+        }
         parseBrdfSettings(findBrdfModel(model), settings, "--set " + model);
     }
 }
