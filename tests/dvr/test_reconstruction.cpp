@@ -1,0 +1,101 @@
+// Reconstruction filters and gradients against fields whose answers are known by hand: linear
+// ramps (both filters and both gradient methods exact), a quadratic (B-spline adds the kernel's
+// variance 1/3; trilinear adds t(1 − t); both gradients exact), a single spike (the B-spline
+// approximates, trilinear interpolates), and world-space gradients under anisotropic spacing.
+#include <gtest/gtest.h>
+
+#include "dvr_test_grids.h"
+#include "volume/reconstruction.h"
+
+namespace lobe {
+namespace {
+
+using openvdb::Coord;
+
+double ramp(int i, int j, int k) { return 0.3 * i - 0.2 * j + 0.1 * k + 2.0; }
+
+TEST(Reconstruction, LinearFieldIsReproducedExactly) {
+    auto grid = test::makeGrid(ramp, Coord(-2), Coord(12));
+    GridReconstructor r(*grid);
+    // Points well inside (the 4³ B-spline support stays within the filled box).
+    const Vec3 pts[] = {{3.25, 4.5, 5.75}, {5, 5, 5}, {7.9, 2.1, 8.6}};
+    for (const Vec3& p : pts) {
+        const double f = 0.3 * p.x - 0.2 * p.y + 0.1 * p.z + 2.0;
+        EXPECT_NEAR(r.trilinear(p), f, 1e-6);  // float voxels: ~1e-7 relative
+        Vec3 g;
+        EXPECT_NEAR(r.bsplineWithGradient(p, g), f, 1e-6);
+        EXPECT_NEAR(g.x, 0.3, 1e-6);
+        EXPECT_NEAR(g.y, -0.2, 1e-6);
+        EXPECT_NEAR(g.z, 0.1, 1e-6);
+        const Vec3 c = r.centralDifferences(p);
+        EXPECT_NEAR(c.x, 0.3, 1e-6);
+        EXPECT_NEAR(c.y, -0.2, 1e-6);
+        EXPECT_NEAR(c.z, 0.1, 1e-6);
+    }
+}
+
+TEST(Reconstruction, QuadraticShowsApproximationVsInterpolation) {
+    // f = x² (voxel values i²). At x = i + t:
+    //  trilinear  (1−t)i² + t(i+1)² = x² + t(1 − t);
+    //  B-spline   Σ w_a (i−1+a)² = x² + 1/3 (the cubic B-spline's variance, 4 × 1/12);
+    //  B-spline derivative 2x (the derivative of x² + 1/3);
+    //  central differences of the trilinear field ((x+1)² − (x−1)²)/2 = 2x (the t(1−t) terms
+    //  cancel).
+    auto grid = test::makeGrid([](int i, int, int) { return double(i) * i; }, Coord(-3), Coord(12));
+    GridReconstructor r(*grid);
+    for (double x : {2.0, 3.3, 4.75, 6.5}) {
+        const Vec3 p(x, 4.2, 5.9);
+        const double t = x - std::floor(x);
+        EXPECT_NEAR(r.trilinear(p), x * x + t * (1 - t), 1e-5);
+        Vec3 g;
+        EXPECT_NEAR(r.bsplineWithGradient(p, g), x * x + 1.0 / 3.0, 1e-5);
+        EXPECT_NEAR(g.x, 2 * x, 1e-5);
+        EXPECT_NEAR(g.y, 0.0, 1e-6);
+        EXPECT_NEAR(r.centralDifferences(p).x, 2 * x, 1e-5);
+    }
+}
+
+TEST(Reconstruction, SpikeBSplineApproximatesTrilinearInterpolates) {
+    // One voxel of value 1 at (4,4,4). Trilinear at the voxel centre: 1. B-spline: the weight
+    // product w1(0)³ = (4/6)³ = 8/27; at a neighbour centre (5,4,4): w0(0)·w1(0)² = (1/6)(4/6)².
+    auto grid = test::makeGrid([](int i, int j, int k) { return i == 4 && j == 4 && k == 4; },
+                               Coord(0), Coord(8));
+    GridReconstructor r(*grid);
+    EXPECT_DOUBLE_EQ(r.trilinear(Vec3(4, 4, 4)), 1.0);
+    EXPECT_NEAR(r.bspline(Vec3(4, 4, 4)), 8.0 / 27.0, 1e-12);
+    EXPECT_NEAR(r.bspline(Vec3(5, 4, 4)), (1.0 / 6.0) * (4.0 / 6.0) * (4.0 / 6.0), 1e-12);
+    EXPECT_DOUBLE_EQ(r.trilinear(Vec3(5, 4, 4)), 0.0);
+}
+
+TEST(Reconstruction, WorldGradientUnderAnisotropicSpacing) {
+    // Voxel size (2, 1, 4) and origin (10, −3, 7): world = diag(2,1,4)·index + origin. A field
+    // 0.3 i − 0.2 j + 0.1 k has world gradient J⁻ᵀ g = (0.3/2, −0.2/1, 0.1/4).
+    auto grid = test::makeGrid(ramp, Coord(-2), Coord(12), openvdb::Vec3d(2, 1, 4),
+                               openvdb::Vec3d(10, -3, 7));
+    const GridGeometry geo(grid->transform());
+    EXPECT_NEAR(geo.referenceVoxelLength(), 2.0, 1e-12);  // cbrt(2·1·4)
+    const Vec3 w = geo.indexToWorld(Vec3(1, 2, 3));
+    EXPECT_NEAR(w.x, 12.0, 1e-12);
+    EXPECT_NEAR(w.y, -1.0, 1e-12);
+    EXPECT_NEAR(w.z, 19.0, 1e-12);
+    const Vec3 back = geo.worldToIndex(w);
+    EXPECT_NEAR((back - Vec3(1, 2, 3)).length(), 0.0, 1e-12);
+    GridReconstructor r(*grid);
+    Vec3 g;
+    r.bsplineWithGradient(Vec3(4.3, 5.1, 6.8), g);
+    const Vec3 gw = geo.gradientToWorld(g);
+    EXPECT_NEAR(gw.x, 0.15, 1e-6);
+    EXPECT_NEAR(gw.y, -0.2, 1e-6);
+    EXPECT_NEAR(gw.z, 0.025, 1e-6);
+    // Check against a finite difference taken in world space.
+    const double h = 1e-3;
+    const Vec3 p = Vec3(4.3, 5.1, 6.8);
+    const Vec3 pw = geo.indexToWorld(p);
+    const double fd = (r.trilinear(geo.worldToIndex(pw + Vec3(0, 0, h))) -
+                       r.trilinear(geo.worldToIndex(pw - Vec3(0, 0, h)))) /
+                      (2 * h);
+    EXPECT_NEAR(fd, 0.025, 1e-4);
+}
+
+}  // namespace
+}  // namespace lobe

@@ -1,0 +1,124 @@
+// Transfer functions: piecewise-linear evaluation, steps, exact maximum over a range, transparent
+// ranges, opacity correction, the paper's presets and the sRGB → band conversion.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "volume/transfer_function.h"
+
+namespace lobe {
+namespace {
+
+TEST(TransferFunction, InterpolatesLinearlyAndClampsAtEnds) {
+    const TransferFunction tf({{0.2, 0.0, Spectrum(0, 0, 1)}, {0.6, 0.4, Spectrum(1, 0, 0)}});
+    // At 0.3: s = (0.3 − 0.2)/0.4 = 0.25 → opacity 0.25·0.4 = 0.1, colour (0.25, 0, 0.75).
+    EXPECT_NEAR(tf.opacity(0.3), 0.1, 1e-15);
+    const Spectrum c = tf.colour(0.3);
+    EXPECT_NEAR(c[0], 0.25, 1e-15);
+    EXPECT_NEAR(c[1], 0.0, 1e-15);
+    EXPECT_NEAR(c[2], 0.75, 1e-15);
+    EXPECT_EQ(tf.opacity(-5.0), 0.0);  // below the first point: its value
+    EXPECT_EQ(tf.opacity(7.0), 0.4);   // above the last point: its value
+    EXPECT_EQ(TransferFunction().opacity(0.5), 0.0);
+}
+
+TEST(TransferFunction, StepTakesRightLimitAtItsValue) {
+    const TransferFunction tf({{0.5, 0.0, Spectrum(1)}, {0.5, 0.3, Spectrum(1)}});
+    EXPECT_EQ(tf.opacity(0.5 - 1e-12), 0.0);
+    EXPECT_EQ(tf.opacity(0.5), 0.3);
+    EXPECT_EQ(tf.opacity(0.9), 0.3);
+}
+
+TEST(TransferFunction, MaxOpacityIsExact) {
+    // Tent 0 → 0.5 → 0 on [0.4, 0.6]: inside [0.45, 0.7] the peak 0.5 at 0.6 is a control point,
+    // inside [0.41, 0.42] the maximum is at the right end: (0.42 − 0.4)/0.1 · 0.5 = 0.1.
+    const TransferFunction tf(
+        {{0.4, 0.0, Spectrum(1)}, {0.5, 0.5, Spectrum(1)}, {0.6, 0.0, Spectrum(1)}});
+    EXPECT_EQ(tf.maxOpacity(0.45, 0.7), 0.5);
+    EXPECT_NEAR(tf.maxOpacity(0.41, 0.42), 0.1, 1e-15);
+    EXPECT_TRUE(tf.isTransparent(0.0, 0.4));
+    EXPECT_TRUE(tf.isTransparent(0.6, 3.0));
+    EXPECT_FALSE(tf.isTransparent(0.0, 0.400001));
+}
+
+TEST(TransferFunction, TransparentRangesOfADensityMap) {
+    // Map 0: 0 below 0.69, up to 0.3 at 0.71, flat to 0.74, down to 0 at 0.76.
+    const auto r = TransferFunction::densityMap(0).transparentRanges();
+    ASSERT_EQ(r.size(), 2u);
+    EXPECT_EQ(r[0].first, -std::numeric_limits<double>::infinity());
+    EXPECT_NEAR(r[0].second, 0.69, 1e-15);
+    EXPECT_NEAR(r[1].first, 0.76, 1e-15);
+    EXPECT_EQ(r[1].second, std::numeric_limits<double>::infinity());
+}
+
+TEST(TransferFunction, OpacityCorrection) {
+    // 1 − (1 − 0.5)² = 0.75; 1 − 0.5^0.5 = 0.292893…; Δ = 1 leaves α unchanged; 20 steps of
+    // 0.05 compose back to the per-voxel opacity: 1 − ((1 − α)^0.05)^20 = α.
+    EXPECT_NEAR(correctOpacity(0.5, 2.0), 0.75, 1e-15);
+    EXPECT_NEAR(correctOpacity(0.5, 0.5), 1.0 - std::sqrt(0.5), 1e-15);
+    EXPECT_NEAR(correctOpacity(0.3, 1.0), 0.3, 1e-15);
+    double t = 1.0;
+    for (int i = 0; i < 20; ++i) t *= 1.0 - correctOpacity(0.3, 0.05);
+    EXPECT_NEAR(1.0 - t, 0.3, 1e-14);
+    EXPECT_EQ(correctOpacity(0.0, 0.05), 0.0);
+}
+
+TEST(TransferFunction, PaperPresets) {
+    const double iso[4] = {0.70, 0.75, 0.80, 0.85};
+    const double alpha[4] = {0.3, 0.4, 0.5, 0.6};
+    for (int i = 0; i < 4; ++i) {
+        const TransferFunction tf = TransferFunction::densityMap(i, 0.02);
+        EXPECT_NEAR(tf.opacity(iso[i]), 0.5 * alpha[i], 1e-12) << "half opacity at the iso value";
+        EXPECT_NEAR(tf.opacity(iso[i] + 0.01), alpha[i], 1e-12);
+        EXPECT_EQ(tf.opacity(iso[i] - 0.011), 0.0);
+        if (i < 3) {
+            EXPECT_EQ(tf.opacity(iso[i + 1] + 0.011), 0.0);
+        }
+    }
+    const TransferFunction all = TransferFunction::densityMaps();
+    EXPECT_NEAR(all.opacity(0.9), 0.6, 1e-15);
+    EXPECT_NEAR(all.opacity(0.775), 0.4, 1e-15);
+    // Red: the 700 nm band dominates; blue: the 435.8 nm band.
+    const Spectrum red = all.colour(0.9), blue = all.colour(0.72);
+    EXPECT_GT(red[0], 5 * red[2]);
+    EXPECT_GT(blue[2], 5 * blue[0]);
+
+    const TransferFunction cortex = TransferFunction::cortex(0.47, 0.1);
+    EXPECT_EQ(cortex.opacity(0.419), 0.0);
+    EXPECT_NEAR(cortex.opacity(0.4200001), 0.001, 1e-6);
+    EXPECT_NEAR(cortex.opacity(0.47), 0.5 * (0.001 + 0.2), 1e-12);
+    EXPECT_NEAR(cortex.opacity(0.9), 0.2, 1e-15);
+}
+
+TEST(TransferFunction, SrgbToBandsInvertsBandsToSrgb) {
+    const Spectrum bands = linearSrgbToBands(0.2, 0.5, 0.7);
+    ASSERT_GE(bands[0], 0.0);  // inside the CIE RGB gamut: no clamping, exact inverse
+    const auto rgb = bandsToLinearSrgb(bands);
+    EXPECT_NEAR(rgb[0], 0.2, 1e-12);
+    EXPECT_NEAR(rgb[1], 0.5, 1e-12);
+    EXPECT_NEAR(rgb[2], 0.7, 1e-12);
+    // Pure sRGB blue lies outside the CIE RGB triangle: a band is clamped to 0, never negative.
+    const Spectrum b = linearSrgbToBands(0, 0, 1);
+    for (int i = 0; i < 3; ++i) EXPECT_GE(b[i], 0.0);
+}
+
+TEST(TransferFunction, BadInputThrows) {
+    EXPECT_THROW(TransferFunction({{0.5, 0.1, Spectrum(1)}, {0.4, 0.1, Spectrum(1)}}), Error);
+    EXPECT_THROW(TransferFunction({{0.5, 1.0, Spectrum(1)}}), Error);
+    EXPECT_THROW(TransferFunction({{0.5, -0.1, Spectrum(1)}}), Error);
+    EXPECT_THROW(TransferFunction({{0.5, 0.1, Spectrum(-1)}}), Error);
+    EXPECT_THROW(TransferFunction({{std::nan(""), 0.1, Spectrum(1)}}), Error);
+    EXPECT_THROW(TransferFunction::densityMap(4), Error);
+    EXPECT_THROW(TransferFunction::densityMap(0, 0.06), Error);
+    try {
+        TransferFunction({{0.5, 0.1, Spectrum(1)}, {0.4, 0.1, Spectrum(1)}}, "scene.json: tf");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("scene.json: tf, control point 1"), std::string::npos);
+    }
+}
+
+}  // namespace
+}  // namespace lobe

@@ -1,0 +1,188 @@
+#include "volume/transfer_function.h"
+
+#include <Imath/ImathMatrix.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+
+namespace lobe {
+
+Spectrum linearSrgbToBands(double r, double g, double b) {
+    // bandsToLinearSrgb is linear (a 3×3 matrix, core/spectrum.cpp); recover its columns from the
+    // unit band triples and invert once.
+    static const Imath::M33d kInverse = [] {
+        Imath::M33d m;
+        for (int j = 0; j < 3; ++j) {
+            Spectrum unit(0.0);
+            unit[j] = 1.0;
+            const std::array<double, 3> c = bandsToLinearSrgb(unit);
+            for (int i = 0; i < 3; ++i) m[i][j] = c[i];
+        }
+        return m.inverse();
+    }();
+    Spectrum out;
+    const double rgb[3] = {r, g, b};
+    for (int i = 0; i < 3; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < 3; ++j) v += kInverse[i][j] * rgb[j];
+        out[i] = std::max(0.0, v);
+    }
+    return out;
+}
+
+double correctOpacity(double alphaVoxel, double stepInVoxels) {
+    // Equation (1) of the header. alphaVoxel < 1 is guaranteed by the constructor; log1p keeps
+    // precision for the tiny opacities (0.001 per voxel at 0.05-voxel steps).
+    if (!(alphaVoxel > 0.0)) return 0.0;
+    return -std::expm1(stepInVoxels * std::log1p(-alphaVoxel));
+}
+
+TransferFunction::TransferFunction(std::vector<TfPoint> points, const std::string& name)
+    : points_(std::move(points)) {
+    for (size_t i = 0; i < points_.size(); ++i) {
+        const TfPoint& p = points_[i];
+        const std::string where = name + ", control point " + std::to_string(i);
+        if (!std::isfinite(p.value)) throw Error(where + ": value is not finite");
+        if (i > 0 && p.value < points_[i - 1].value)
+            throw Error(where + ": values must be sorted ascending (" + std::to_string(p.value) +
+                        " < " + std::to_string(points_[i - 1].value) + ")");
+        if (!(p.opacity >= 0.0 && p.opacity < 1.0))
+            throw Error(where + ": opacity per voxel must be in [0, 1), got " +
+                        std::to_string(p.opacity));
+        if (!p.colour.isFinite() || p.colour[0] < 0.0 || p.colour[1] < 0.0 || p.colour[2] < 0.0)
+            throw Error(where + ": colour bands must be finite and >= 0");
+    }
+}
+
+void TransferFunction::evaluate(double value, double& opacity, Spectrum& colour) const {
+    if (points_.empty()) {
+        opacity = 0.0;
+        colour = Spectrum(0.0);
+        return;
+    }
+    // First point strictly above `value`: at a step (two equal values) the right limit wins.
+    const auto it = std::upper_bound(points_.begin(), points_.end(), value,
+                                     [](double v, const TfPoint& p) { return v < p.value; });
+    if (it == points_.begin()) {
+        opacity = it->opacity;
+        colour = it->colour;
+        return;
+    }
+    if (it == points_.end()) {
+        opacity = points_.back().opacity;
+        colour = points_.back().colour;
+        return;
+    }
+    const TfPoint& a = *(it - 1);
+    const TfPoint& b = *it;
+    const double s = (value - a.value) / (b.value - a.value);  // b.value > a.value here
+    opacity = a.opacity + s * (b.opacity - a.opacity);
+    colour = a.colour * (1.0 - s) + b.colour * s;
+}
+
+double TransferFunction::opacity(double value) const {
+    double a;
+    Spectrum c;
+    evaluate(value, a, c);
+    return a;
+}
+
+Spectrum TransferFunction::colour(double value) const {
+    double a;
+    Spectrum c;
+    evaluate(value, a, c);
+    return c;
+}
+
+double TransferFunction::maxOpacity(double lo, double hi) const {
+    if (points_.empty()) return 0.0;
+    if (hi < lo) std::swap(lo, hi);
+    double m = std::max(opacity(lo), opacity(hi));
+    // Control points inside the interval, including both limits of a step at an interior value.
+    for (const TfPoint& p : points_)
+        if (p.value >= lo && p.value <= hi) m = std::max(m, p.opacity);
+    return m;
+}
+
+std::vector<std::pair<double, double>> TransferFunction::transparentRanges() const {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, double>> ranges;
+    if (points_.empty()) return {{-kInf, kInf}};
+    // Walk the segments (−inf, p0], [p0, p1], …, [pn, +inf) and merge those with zero opacity at
+    // both ends (a linear piece that is zero at both ends is zero throughout).
+    auto add = [&](double a, double b) {
+        if (!ranges.empty() && ranges.back().second >= a)
+            ranges.back().second = std::max(ranges.back().second, b);
+        else
+            ranges.emplace_back(a, b);
+    };
+    if (points_.front().opacity == 0.0) add(-kInf, points_.front().value);
+    for (size_t i = 0; i + 1 < points_.size(); ++i)
+        if (points_[i].opacity == 0.0 && points_[i + 1].opacity == 0.0)
+            add(points_[i].value, points_[i + 1].value);
+    if (points_.back().opacity == 0.0) add(points_.back().value, kInf);
+    return ranges;
+}
+
+namespace {
+
+constexpr double kDensityIso[4] = {0.70, 0.75, 0.80, 0.85};
+constexpr double kDensityOpacity[4] = {0.3, 0.4, 0.5, 0.6};
+
+Spectrum densityColour(int i) {
+    // Blue, green, yellow, red as linear sRGB primaries (Figure 10 of the paper names only the
+    // colours).
+    static const Spectrum kColours[4] = {linearSrgbToBands(0, 0, 1), linearSrgbToBands(0, 1, 0),
+                                         linearSrgbToBands(1, 1, 0), linearSrgbToBands(1, 0, 0)};
+    return kColours[i];
+}
+
+void checkRampWidth(double w) {
+    if (!(w > 0.0 && w < 0.05))
+        throw Error("density map transfer function: ramp width must be in (0, 0.05), got " +
+                    std::to_string(w));
+}
+
+}  // namespace
+
+TransferFunction TransferFunction::densityMap(int index, double rampWidth) {
+    if (index < 0 || index > 3)
+        throw Error("density map transfer function: index must be 0..3, got " +
+                    std::to_string(index));
+    checkRampWidth(rampWidth);
+    const double h = 0.5 * rampWidth;
+    const Spectrum c = densityColour(index);
+    const double a = kDensityOpacity[index];
+    std::vector<TfPoint> p = {{kDensityIso[index] - h, 0.0, c}, {kDensityIso[index] + h, a, c}};
+    if (index < 3) {
+        p.push_back({kDensityIso[index + 1] - h, a, c});
+        p.push_back({kDensityIso[index + 1] + h, 0.0, c});
+    }
+    return TransferFunction(std::move(p), "density map " + std::to_string(index));
+}
+
+TransferFunction TransferFunction::densityMaps(double rampWidth) {
+    checkRampWidth(rampWidth);
+    const double h = 0.5 * rampWidth;
+    std::vector<TfPoint> p = {{kDensityIso[0] - h, 0.0, densityColour(0)}};
+    for (int i = 0; i < 4; ++i) {
+        p.push_back({kDensityIso[i] + h, kDensityOpacity[i], densityColour(i)});
+        if (i < 3) p.push_back({kDensityIso[i + 1] - h, kDensityOpacity[i], densityColour(i)});
+    }
+    return TransferFunction(std::move(p), "density maps");
+}
+
+TransferFunction TransferFunction::cortex(double boundary, double width, const Spectrum& colour) {
+    if (!(width > 0.0) || !std::isfinite(boundary) || !std::isfinite(width))
+        throw Error("cortex transfer function: width must be > 0 and boundary finite");
+    const double lo = boundary - 0.5 * width;
+    const double hi = boundary + 0.5 * width;
+    // A step from 0 to 0.001 at `lo` (two points at one value): below it the ramp is exactly
+    // transparent, so empty-space skipping can drop the low-valued tissue.
+    return TransferFunction({{lo, 0.0, colour}, {lo, 0.001, colour}, {hi, 0.2, colour}}, "cortex");
+}
+
+}  // namespace lobe

@@ -1,0 +1,95 @@
+// Transfer functions for direct volume rendering (DVR): a piecewise-linear map from a
+// reconstructed data value to an opacity and a colour, one per volume object.
+//
+// Opacity per voxel length. The opacity α_voxel stored at a control point is the fraction of
+// light absorbed by a path of length ℓ_ref through homogeneous material of that value, where
+// ℓ_ref is the volume's reference voxel length (volume/volume_marcher.h: the cube root of the
+// voxel volume |det J|, i.e. exactly the voxel size for isotropic grids). A step of world length
+// Δs therefore has opacity
+//     α_step = 1 − (1 − α_voxel)^(Δs / ℓ_ref)                                     (1)
+// (opacity correction: Lacroute & Levoy 1994, "Fast volume rendering using a shear-warp
+// factorization of the viewing transformation", SIGGRAPH '94, the correction of stored opacities
+// for the sample spacing; Engel, Hadwiger, Kniss, Rezk-Salama & Weiskopf, "Real-Time Volume
+// Graphics", 2006, ch. 1, discretisation of the volume rendering integral). Equation (1) is exact
+// for homogeneous material: N steps of Δ voxels give transmittance (1 − α_voxel)^(NΔ), the
+// Beer–Lambert law T = exp(−σ s) with extinction σ = −ln(1 − α_voxel) / ℓ_ref (Max 1995,
+// "Optical models for direct volume rendering", eq. 3).
+//
+// Control points (value, opacity, colour) are sorted by value; two points may share a value to
+// make a step (left and right limits; at exactly that value the right limit holds). Below the
+// first and above the last point the end values hold. Opacity is in [0, 1), colour is a band
+// Spectrum (700 / 546.1 / 435.8 nm, core/spectrum.h) that multiplies the sample's shaded
+// radiance. An empty transfer function is transparent everywhere.
+//
+// Colour: our bands are the CIE RGB primaries, so an sRGB colour name such as "blue" must be
+// converted; linearSrgbToBands() inverts core/spectrum.h's bandsToLinearSrgb and clamps at 0
+// (sRGB colours outside the CIE RGB gamut lose their negative band).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/spectrum.h"
+
+namespace lobe {
+
+struct TfPoint {
+    double value = 0.0;
+    double opacity = 0.0;  // per voxel length, [0, 1)
+    Spectrum colour{1.0};
+};
+
+// Inverse of bandsToLinearSrgb (core/spectrum.h), each band clamped to ≥ 0.
+Spectrum linearSrgbToBands(double r, double g, double b);
+
+// Equation (1): opacity of a step of `stepInVoxels` reference voxel lengths.
+double correctOpacity(double alphaVoxel, double stepInVoxels);
+
+class TransferFunction {
+public:
+    TransferFunction() = default;
+    // Throws lobe::Error (naming `name` and the point index) when values are not finite or not
+    // sorted, or an opacity is outside [0, 1) or a colour band negative/not finite. Opacity 1 is
+    // refused because equation (1) then makes every step opaque whatever its length.
+    explicit TransferFunction(std::vector<TfPoint> points,
+                              const std::string& name = "transfer function");
+
+    double opacity(double value) const;
+    Spectrum colour(double value) const;
+    // Both at once (one search); the hot path of the marcher.
+    void evaluate(double value, double& opacity, Spectrum& colour) const;
+
+    // Exact maximum of the opacity over [lo, hi]: a piecewise-linear function takes its maximum
+    // at an interval end or at a control point inside. Used by empty-space skipping.
+    double maxOpacity(double lo, double hi) const;
+    bool isTransparent(double lo, double hi) const { return !(maxOpacity(lo, hi) > 0.0); }
+
+    // The maximal value ranges where the opacity is 0 (may start at −inf or end at +inf); for
+    // reports and for integrators that want to clip rays themselves.
+    std::vector<std::pair<double, double>> transparentRanges() const;
+
+    const std::vector<TfPoint>& points() const { return points_; }
+
+    // --- The paper's presets (Koldenhof 2003, "Rendering settings" and Figure 10) ---
+    // Density map `index` (0..3): iso 0.70 / 0.75 / 0.80 / 0.85, opacity 0.3 / 0.4 / 0.5 / 0.6,
+    // colour blue / green / yellow / red (pure linear-sRGB primaries converted to bands). Each map
+    // is the band of values between its iso value and the next one (the last map has no upper
+    // end), so the four maps are disjoint objects that may carry their own BRDF. The opacity
+    // ramps linearly from 0 at iso − w/2 to full at iso + w/2 (w = rampWidth, < 0.05), so the half
+    // opacity sits at the paper's iso value; it falls the same way at the next iso value.
+    static TransferFunction densityMap(int index, double rampWidth = 0.02);
+    // All four maps in one object: the same ramps, colour cross-fading between neighbours.
+    static TransferFunction densityMaps(double rampWidth = 0.02);
+    // Cortex: transparent below boundary − width/2, then opacity 0.001 rising linearly to 0.2 at
+    // boundary + width/2 and staying there (the paper's "opacity of the cortex ranged from 0.001
+    // to 0.2"; the boundary ≈ 0.47 of the T1 maximum, shared/docs/paper-scene.md). The paper
+    // gives no cortex colour; the default is a light warm grey, linear sRGB (0.8, 0.7, 0.65).
+    static TransferFunction cortex(double boundary = 0.47, double width = 0.1,
+                                   const Spectrum& colour = linearSrgbToBands(0.8, 0.7, 0.65));
+
+private:
+    std::vector<TfPoint> points_;
+};
+
+}  // namespace lobe

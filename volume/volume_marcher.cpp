@@ -1,0 +1,213 @@
+#include "volume/volume_marcher.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/frame.h"
+
+namespace lobe {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// B-spline support around floor(p): voxels floor(p) − 1 … floor(p) + 2 (reconstruction.h).
+constexpr int kSupportBelow = 1;
+constexpr int kSupportAbove = 2;
+// Margin on a brick's value range before asking the transfer function (guards the rounding of
+// the reconstructed value; header, "Empty-space skipping").
+constexpr double kRangeMargin = 1e-6;
+}  // namespace
+
+DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
+                     const DvrSettings& settings, const std::string& name)
+    : grid_(std::move(grid)), tf_(std::move(tf)), settings_(settings) {
+    if (!grid_) throw Error(name + ": no grid");
+    if (!(settings_.stepVoxels > 0.0 && settings_.stepVoxels <= 16.0))
+        throw Error(name + ": step must be in (0, 16] voxels, got " +
+                    std::to_string(settings_.stepVoxels));
+    if (settings_.brickSize < 2 || settings_.brickSize > 64)
+        throw Error(name + ": brick size must be in [2, 64] voxels, got " +
+                    std::to_string(settings_.brickSize));
+    if (!(settings_.minGradientPerVoxel >= 0.0))
+        throw Error(name + ": the gradient threshold must be >= 0");
+    geometry_ = GridGeometry(grid_->transform(), name);
+
+    const openvdb::CoordBBox active = grid_->evalActiveVoxelBoundingBox();
+    empty_ = grid_->activeVoxelCount() == 0 || active.empty();
+    if (empty_) return;
+    // Domain: the active box grown by the B-spline support (2 voxels) on each side.
+    const openvdb::Coord lo = active.min() - openvdb::Coord(2);
+    const openvdb::Coord hi = active.max() + openvdb::Coord(2);
+    domainLo_ = Vec3(lo.x(), lo.y(), lo.z());
+    domainHi_ = Vec3(hi.x(), hi.y(), hi.z());
+    const int b = settings_.brickSize;
+    for (int a = 0; a < 3; ++a) {
+        brickLo_[a] = lo[a];
+        brickCount_[a] = (hi[a] - lo[a]) / b + 1;  // covers [lo, hi] (a point at hi included)
+    }
+    const size_t count = size_t(brickCount_[0]) * brickCount_[1] * brickCount_[2];
+    brickTransparent_.assign(count, 0);
+    // Min/max over each brick's sample footprint, in parallel over z-slabs of bricks; one
+    // accessor per task (accessors are not thread-safe).
+    tbb::parallel_for(0, brickCount_[2], [&](int bz) {
+        openvdb::FloatGrid::ConstAccessor acc = grid_->getConstAccessor();
+        for (int by = 0; by < brickCount_[1]; ++by)
+            for (int bx = 0; bx < brickCount_[0]; ++bx) {
+                const int x0 = brickLo_[0] + bx * b, y0 = brickLo_[1] + by * b,
+                          z0 = brickLo_[2] + bz * b;
+                float vmin = std::numeric_limits<float>::infinity(), vmax = -vmin;
+                for (int z = z0 - kSupportBelow; z < z0 + b + kSupportAbove; ++z)
+                    for (int y = y0 - kSupportBelow; y < y0 + b + kSupportAbove; ++y)
+                        for (int x = x0 - kSupportBelow; x < x0 + b + kSupportAbove; ++x) {
+                            const float v = acc.getValue(openvdb::Coord(x, y, z));
+                            vmin = std::min(vmin, v);
+                            vmax = std::max(vmax, v);
+                        }
+                const double m = kRangeMargin * std::max(1.0, std::max(std::abs(double(vmin)),
+                                                                       std::abs(double(vmax))));
+                const size_t i = (size_t(bz) * brickCount_[1] + by) * brickCount_[0] + bx;
+                brickTransparent_[i] = tf_.isTransparent(vmin - m, vmax + m) ? 1 : 0;
+            }
+    });
+}
+
+double DvrVolume::transparentBrickFraction() const {
+    if (brickTransparent_.empty()) return 1.0;
+    size_t n = 0;
+    for (unsigned char c : brickTransparent_) n += c;
+    return double(n) / double(brickTransparent_.size());
+}
+
+VolumeRaySampler::VolumeRaySampler(const DvrVolume& volume)
+    : vol_(&volume), recon_(volume.grid()) {}
+
+bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
+    active_ = false;
+    k_ = 0;
+    tEnter_ = 0.0;
+    tExit_ = -1.0;
+    if (vol_->empty_) return false;
+    const GridGeometry& g = vol_->geometry_;
+    oIdx_ = g.worldToIndex(ray.o);
+    dIdx_ = g.worldToIndexDirection(ray.d);
+    const double idxSpeed = dIdx_.length();  // index-space length per unit t
+    if (!(idxSpeed > 0.0) || !std::isfinite(idxSpeed)) return false;
+    // Slab clipping against the domain box (Kay & Kajiya 1986) in index space; t is shared with
+    // world space because the map is affine.
+    double t0 = ray.tMin, t1 = ray.tMax;
+    for (int a = 0; a < 3; ++a) {
+        if (dIdx_[a] == 0.0) {
+            if (oIdx_[a] < vol_->domainLo_[a] || oIdx_[a] > vol_->domainHi_[a]) return false;
+            continue;
+        }
+        double ta = (vol_->domainLo_[a] - oIdx_[a]) / dIdx_[a];
+        double tb = (vol_->domainHi_[a] - oIdx_[a]) / dIdx_[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    if (!(t0 <= t1) || !std::isfinite(t0) || !std::isfinite(t1)) return false;
+    tEnter_ = t0;
+    tExit_ = t1;
+    dt_ = vol_->settings_.stepVoxels / idxSpeed;
+    jitter_ = std::min(std::max(jitter, 0.0), std::nextafter(1.0, 0.0));
+    // Opacity exponent: the world length of one step in reference voxel lengths (header).
+    stepRefLengths_ = dt_ * ray.d.length() / g.referenceVoxelLength();
+    active_ = true;
+    return true;
+}
+
+double VolumeRaySampler::peekT() const {
+    if (!active_) return kInf;
+    const double t = tEnter_ + (double(k_) + jitter_) * dt_;
+    return t > tExit_ ? kInf : t;
+}
+
+bool VolumeRaySampler::next(double tEnd, VolumeSample& s) {
+    if (!active_) return false;
+    const DvrVolume& v = *vol_;
+    const DvrSettings& set = v.settings_;
+    const int b = set.brickSize;
+    while (true) {
+        const double t = tEnter_ + (double(k_) + jitter_) * dt_;
+        if (t > tExit_) {
+            active_ = false;
+            return false;
+        }
+        if (t >= tEnd) return false;
+        const Vec3 p = oIdx_ + dIdx_ * t;
+        if (set.emptySpaceSkipping) {
+            int bi[3];
+            for (int a = 0; a < 3; ++a)
+                bi[a] = std::min(v.brickCount_[a] - 1,
+                                 std::max(0, int(std::floor((p[a] - v.brickLo_[a]) / b))));
+            const size_t idx =
+                (size_t(bi[2]) * v.brickCount_[1] + bi[1]) * v.brickCount_[0] + bi[0];
+            if (v.brickTransparent_[idx]) {
+                // Exit of this brick's box along the ray, then the first lattice point past it.
+                double tOut = kInf;
+                for (int a = 0; a < 3; ++a) {
+                    if (dIdx_[a] == 0.0) continue;
+                    const double lo = v.brickLo_[a] + double(bi[a]) * b;
+                    const double bound = dIdx_[a] > 0.0 ? lo + b : lo;
+                    tOut = std::min(tOut, (bound - oIdx_[a]) / dIdx_[a]);
+                }
+                long long kNext = k_ + 1;
+                if (std::isfinite(tOut)) {
+                    const double kf = std::ceil((tOut - tEnter_) / dt_ - jitter_);
+                    if (kf > double(kNext)) kNext = kf > 9e18 ? (long long)9e18 : (long long)kf;
+                }
+                // Count only lattice points inside the domain (t ≤ tExit) as skipped.
+                const double kLast = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
+                skipped_ += std::max(0LL, std::min(kNext, (long long)kLast + 1) - k_);
+                k_ = kNext;
+                continue;
+            }
+        }
+        ++evaluated_;
+        const double value = recon_.value(set.reconstruction, p);
+        double alphaVoxel;
+        Spectrum colour;
+        v.tf_.evaluate(value, alphaVoxel, colour);
+        ++k_;
+        if (!(alphaVoxel > 0.0)) continue;
+
+        Vec3 gIdx;
+        if (set.gradient == GradientMethod::kBSplineDerivative)
+            recon_.bsplineWithGradient(p, gIdx);
+        else
+            gIdx = recon_.centralDifferences(p);
+        const GridGeometry& geo = v.geometry_;
+        s.t = t;
+        s.position = geo.indexToWorld(p);
+        s.value = value;
+        s.gradient = geo.gradientToWorld(gIdx);
+        const double gLen = s.gradient.length();
+        s.hasNormal = gLen * geo.referenceVoxelLength() >= set.minGradientPerVoxel && gLen > 0.0;
+        s.normal = s.hasNormal ? -s.gradient / gLen : Vec3(0, 0, 1);
+        s.alpha = correctOpacity(alphaVoxel, stepRefLengths_);
+        s.colour = colour;
+        return true;
+    }
+}
+
+Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
+                           const Vec3& toViewer, const std::vector<PointLight>& lights,
+                           const Vec3& tangentAxis, const Vec3& fallbackAxis) {
+    if (sample.hasNormal) {
+        const Frame frame = Frame::fromNormalAndAxis(sample.normal, tangentAxis, fallbackAxis);
+        return sample.colour *
+               directLighting(material, frame, sample.position, toViewer, lights, true);
+    }
+    // No usable normal: Lambert with cos θ = 1 (header, "Normals").
+    Spectrum radiance;
+    for (const PointLight& light : lights) {
+        const double d2 = (light.position - sample.position).length2();
+        if (d2 > 0.0) radiance += material.kd * kInvPi * light.intensity * (1.0 / d2);
+    }
+    return sample.colour * radiance;
+}
+
+}  // namespace lobe
