@@ -6,6 +6,7 @@
 #include "core/camera.h"
 #include "core/light.h"
 #include "materials/material.h"
+#include "volume/transfer_function.h"
 
 #include <array>
 #include <cstdint>
@@ -33,12 +34,6 @@ struct ObjectTransform {
     std::array<double, 3> translation{0, 0, 0};
 };
 
-struct TransferPoint {
-    double value = 0.0;
-    double opacity = 0.0;       // per voxel length
-    Spectrum color{1.0};        // band values
-};
-
 struct ObjectSpec {
     enum class Kind { IsoSurface, Volume };
     std::string name;
@@ -54,7 +49,7 @@ struct ObjectSpec {
     double opacity = 1.0;
     Spectrum color{1.0};           // surface colour multiplying the reflected light
     // Volumes
-    std::vector<TransferPoint> transfer;  // piecewise linear in value
+    TransferFunction transfer;  // from explicit points or one of the paper's presets
     std::string reconstruction = "trilinear";  // trilinear | bspline
     std::string gradient = "central";          // central | bspline
 };

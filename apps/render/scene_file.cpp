@@ -213,26 +213,44 @@ void readBrdf(Reader r, ObjectSpec& object) {
     r.finish();  // any other key is not a parameter of this model
 }
 
-std::vector<TransferPoint> readTransfer(Reader r) {
-    std::vector<TransferPoint> points;
+// Either {"points": [{value, opacity, color}, ...]} or one of the paper's presets:
+// {"preset": "density_map", "index": 0..3, "ramp_width": w} or
+// {"preset": "cortex", "boundary": b, "width": w, "color": [..]} (volume/transfer_function.h).
+TransferFunction readTransfer(Reader r) {
+    const std::string preset = r.string("preset", "", {"density_map", "cortex"});
+    if (preset == "density_map") {
+        const int index = r.integer("index", 0, 0, 3);
+        const double ramp = r.number("ramp_width", 0.02, 1e-6, 0.049);
+        r.finish();
+        return TransferFunction::densityMap(index, ramp);
+    }
+    if (preset == "cortex") {
+        const double boundary = r.number("boundary", 0.47, -1e12, 1e12);
+        const double width = r.number("width", 0.1, 1e-9, 1e12);
+        const Spectrum color = r.bands("color", linearSrgbToBands(0.8, 0.7, 0.65), 0.0, 1e6);
+        r.finish();
+        return TransferFunction::cortex(boundary, width, color);
+    }
+    std::vector<TfPoint> points;
+    if (!r.has("points")) r.fail(r.at("points"), "missing (or give a preset)");
     const Json& pts = r.raw("points");
     const std::string where = r.at("points");
     if (!pts.is_array() || pts.empty())
         r.fail(where, "expected a non-empty array of {value, opacity, color}");
     for (size_t i = 0; i < pts.size(); ++i) {
         Reader p(pts[i], where + "[" + std::to_string(i) + "]", r.file());
-        TransferPoint tp;
+        TfPoint tp;
         if (!p.has("value")) p.fail(p.at("value"), "missing");
         tp.value = p.number("value", 0.0, -1e12, 1e12);
-        tp.opacity = p.number("opacity", 0.0, 0.0, 1.0);
-        tp.color = p.bands("color", Spectrum(1.0), 0.0, 1e6);
+        tp.opacity = p.number("opacity", 0.0, 0.0, 0.999999);
+        tp.colour = p.bands("color", Spectrum(1.0), 0.0, 1e6);
         p.finish();
-        if (!points.empty() && !(tp.value > points.back().value))
-            p.fail(p.at("value"), "points must be in increasing order of value");
+        if (!points.empty() && tp.value < points.back().value)
+            p.fail(p.at("value"), "points must be in non-decreasing order of value");
         points.push_back(tp);
     }
     r.finish();
-    return points;
+    return TransferFunction(points, r.file() + ": " + where);
 }
 
 ObjectSpec readObject(Reader r, const std::string& baseDir) {

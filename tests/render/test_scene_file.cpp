@@ -103,3 +103,41 @@ TEST(SceneFile, PerBandBrdfValuesAndSingularTransform) {
 }
 
 }  // namespace lobe
+
+namespace lobe {
+
+TEST(SceneFile, VolumeObjectsWithPresetAndExplicitTransferFunctions) {
+    const std::string base = std::string(LOBE_SOURCE_DIR) + "/tests/render";
+    const std::string text = R"({
+      "camera": {"position": [0, 0, 5]},
+      "objects": [
+        {"kind": "volume", "source": {"path": "test_scene_file.cpp", "divide_by": 255},
+         "transfer_function": {"preset": "density_map", "index": 2},
+         "reconstruction": "bspline", "brdf": {"model": "phong"}},
+        {"kind": "volume", "source": {"path": "test_scene_file.cpp"},
+         "transfer_function": {"points": [{"value": 0.1, "opacity": 0},
+                                          {"value": 0.2, "opacity": 0.5, "color": [1, 0, 0]}]},
+         "brdf": {"model": "lambert"}}
+      ]})";
+    const SceneSpec s = parseScene(text, base, "s.json");
+    ASSERT_EQ(s.objects.size(), 2u);
+    EXPECT_EQ(s.objects[0].reconstruction, "bspline");
+    EXPECT_DOUBLE_EQ(s.objects[0].source.divideBy, 255.0);
+    // Density map 2 is iso 0.80 with opacity 0.5: half opacity at the iso value.
+    EXPECT_NEAR(s.objects[0].transfer.opacity(0.80), 0.25, 1e-9);
+    EXPECT_NEAR(s.objects[1].transfer.opacity(0.15), 0.25, 1e-12);
+    EXPECT_DOUBLE_EQ(s.objects[1].transfer.colour(0.2)[1], 0.0);
+
+    std::string bad = text;
+    bad.replace(bad.find("\"opacity\": 0.5"), 14, "\"opacity\": 1.5");
+    try {
+        parseScene(bad, base, "s.json");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("objects[1].transfer_function.points[1].opacity"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+}  // namespace lobe
