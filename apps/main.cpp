@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     lobe::registerBrdfCommand(app);
     lobe::registerGalleryCommands(app);
     lobe::registerOverlapCommand(app);
+    lobe::registerInfoCommand(app);
+    lobe::registerConvertCommand(app);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,566 @@
+// Volume loaders on small files written here: every voxel type and byte order of raw files,
+// NIfTI-1 headers of either byte order with sform / qform / pixdim orientation and value scaling,
+// NRRD detached headers, .vdb round trips, and one test per kind of bad input (truncation, size
+// contradictions, unknown types, NaN/Inf, wrong magic, damaged gzip) checking that the error names
+// the file and the problem and that nothing is written.
+#include "core/error.h"
+#include "volume/volume.h"
+#include "volume/volume_summary.h"
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace lobe {
+namespace {
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<unsigned char>;
+
+fs::path tempDir() {
+    static const fs::path dir = [] {
+        fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "volume";
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+std::string writeFile(const std::string& name, const Bytes& bytes) {
+    const fs::path p = tempDir() / name;
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    return p.string();
+}
+
+std::string writeGz(const std::string& name, const Bytes& bytes) {
+    const fs::path p = tempDir() / name;
+    gzFile f = gzopen(p.string().c_str(), "wb9");
+    gzwrite(f, bytes.data(), static_cast<unsigned>(bytes.size()));
+    gzclose(f);
+    return p.string();
+}
+
+Bytes readAll(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return Bytes(std::istreambuf_iterator<char>(in), {});
+}
+
+template <typename T>
+void put(Bytes& b, T v, bool big) {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &v, sizeof(T));  // this machine is little-endian (x86-64, checked below)
+    if (big) std::reverse(raw, raw + sizeof(T));
+    b.insert(b.end(), raw, raw + sizeof(T));
+}
+
+// Expects `f` to throw lobe::Error whose message contains every one of `parts`.
+template <typename F>
+void expectError(F&& f, std::initializer_list<std::string> parts) {
+    try {
+        f();
+        FAIL() << "no lobe::Error thrown";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        for (const std::string& part : parts)
+            EXPECT_NE(m.find(part), std::string::npos) << "message: " << m << "\nmissing: " << part;
+    }
+}
+
+float valueAt(const Volume& v, int i, int j, int k) {
+    return v.grid->tree().getValue(openvdb::Coord(i, j, k));
+}
+bool activeAt(const Volume& v, int i, int j, int k) {
+    return v.grid->tree().isValueOn(openvdb::Coord(i, j, k));
+}
+openvdb::Vec3d world(const Volume& v, double i, double j, double k) {
+    return v.grid->transform().indexToWorld(openvdb::Vec3d(i, j, k));
+}
+void expectNear(const openvdb::Vec3d& a, const openvdb::Vec3d& b) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-5) << "component " << c;
+}
+
+RawLayout layout(int x, int y, int z, VoxelType type, Endian endian) {
+    RawLayout l;
+    l.dims = {x, y, z};
+    l.type = type;
+    l.endian = endian;
+    return l;
+}
+
+TEST(VolumeRaw, MachineIsLittleEndian) {
+    const std::uint16_t one = 1;
+    unsigned char first;
+    std::memcpy(&first, &one, 1);
+    ASSERT_EQ(first, 1) << "the byte-order tests below write little-endian by memcpy";
+}
+
+// A 3×2×2 int16 big-endian volume, x fastest, value at (i,j,k) = 100k + 10j + i − 5 except voxel
+// (0,0,0) = 0; spacing (1,1,2) maps index (1,1,1) to world (1,1,2).
+TEST(VolumeRaw, Int16BigEndianValuesTransformAndSparsity) {
+    Bytes b;
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 3; ++i) {
+                std::int16_t v = static_cast<std::int16_t>(100 * k + 10 * j + i - 5);
+                if (i == 0 && j == 0 && k == 0) v = 0;
+                put<std::int16_t>(b, v, true);
+            }
+    const std::string path = writeFile("a.raw", b);
+    RawLayout l = layout(3, 2, 2, VoxelType::kInt16, Endian::kBig);
+    l.spacing = {1, 1, 2};
+    const Volume v = loadRaw(path, l);
+    EXPECT_EQ(v.dims, (std::array<int, 3>{3, 2, 2}));
+    EXPECT_EQ(valueAt(v, 2, 1, 1), 100 + 10 + 2 - 5);
+    EXPECT_EQ(valueAt(v, 1, 0, 0), -4);
+    EXPECT_EQ(valueAt(v, 0, 0, 0), 0.0f);
+    EXPECT_FALSE(activeAt(v, 0, 0, 0)) << "zero is the background";
+    EXPECT_FALSE(activeAt(v, 1, 0, 0)) << "negative values are ≤ background 0: stored, inactive";
+    EXPECT_FALSE(activeAt(v, 2, 0, 0));  // 2 − 5 = −3
+    EXPECT_TRUE(activeAt(v, 0, 1, 0));   // 10 − 5 = 5
+    // Inactive: (0,0,0) = 0, (1,0,0) = −4, (2,0,0) = −3; the other 9 are 5..107.
+    EXPECT_EQ(v.grid->activeVoxelCount(), 9u);
+    EXPECT_DOUBLE_EQ(v.originalMin, -4.0);
+    EXPECT_DOUBLE_EQ(v.originalMax, 107.0);  // 100 + 10 + 2 − 5
+    expectNear(world(v, 1, 1, 1), {1, 1, 2});
+    EXPECT_DOUBLE_EQ(v.spacing[2], 2.0);
+}
+
+TEST(VolumeRaw, ByteOrderSwapsBytes) {
+    // Bytes 01 02: big-endian 0x0102 = 258, little-endian 0x0201 = 513.
+    const std::string path = writeFile("order.raw", Bytes{0x01, 0x02});
+    EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, VoxelType::kUint16, Endian::kBig)), 0, 0, 0), 258);
+    EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, VoxelType::kUint16, Endian::kLittle)), 0, 0, 0),
+              513);
+}
+
+TEST(VolumeRaw, EveryVoxelType) {
+    struct Case {
+        VoxelType type;
+        Bytes bytes;  // big-endian
+        float expected;
+    };
+    const Case cases[] = {
+        {VoxelType::kUint8, {0xFF}, 255.0f},
+        {VoxelType::kInt8, {0xFF}, -1.0f},
+        {VoxelType::kUint16, {0xFF, 0xFE}, 65534.0f},
+        {VoxelType::kInt16, {0xFF, 0xFE}, -2.0f},
+        {VoxelType::kUint32, {0x00, 0x01, 0x00, 0x01}, 65537.0f},
+        {VoxelType::kInt32, {0xFF, 0xFF, 0xFF, 0xFD}, -3.0f},
+        {VoxelType::kFloat32, {0x3F, 0xC0, 0x00, 0x00}, 1.5f},  // 1.5 = 0x3FC00000
+        {VoxelType::kFloat64, {0xC0, 0x02, 0, 0, 0, 0, 0, 0}, -2.25f},  // -2.25 = 0xC002000000000000
+    };
+    for (const Case& c : cases) {
+        const std::string path = writeFile(std::string("t_") + voxelTypeName(c.type) + ".raw", c.bytes);
+        EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, c.type, Endian::kBig)), 0, 0, 0), c.expected)
+            << voxelTypeName(c.type);
+        EXPECT_EQ(parseVoxelType(voxelTypeName(c.type)), c.type);
+    }
+    EXPECT_EQ(parseVoxelType("short"), VoxelType::kInt16);
+    EXPECT_EQ(parseVoxelType("uchar"), VoxelType::kUint8);
+}
+
+TEST(VolumeRaw, BackgroundThresholdKeepsValuesButDeactivates) {
+    const std::string path = writeFile("bg.raw", Bytes{0, 10, 50, 200});
+    LoadOptions o;
+    o.background = 50;
+    const Volume v = loadRaw(path, layout(4, 1, 1, VoxelType::kUint8, Endian::kLittle), o);
+    EXPECT_EQ(valueAt(v, 1, 0, 0), 10.0f) << "below the threshold, still stored";
+    EXPECT_EQ(valueAt(v, 2, 0, 0), 50.0f);
+    EXPECT_FALSE(activeAt(v, 1, 0, 0));
+    EXPECT_FALSE(activeAt(v, 2, 0, 0)) << "≤ threshold is inactive";
+    EXPECT_TRUE(activeAt(v, 3, 0, 0));
+    EXPECT_EQ(v.grid->activeVoxelCount(), 1u);
+}
+
+TEST(VolumeRaw, NormalisationDividesAndRemembersOriginalRange) {
+    const std::string path = writeFile("norm.raw", Bytes{0, 20, 80});
+    LoadOptions o;
+    o.normalize = 40;
+    o.background = 20;  // file units: 20 → stored 0.5, inactive
+    const Volume v = loadRaw(path, layout(3, 1, 1, VoxelType::kUint8, Endian::kLittle), o);
+    EXPECT_FLOAT_EQ(valueAt(v, 1, 0, 0), 0.5f);
+    EXPECT_FLOAT_EQ(valueAt(v, 2, 0, 0), 2.0f);
+    EXPECT_FALSE(activeAt(v, 1, 0, 0));
+    EXPECT_DOUBLE_EQ(v.originalMax, 80.0);
+    EXPECT_DOUBLE_EQ(v.valueScale, 1.0 / 40.0);
+    LoadOptions byMax;
+    byMax.normalizeByMax = true;
+    const Volume m = loadRaw(path, layout(3, 1, 1, VoxelType::kUint8, Endian::kLittle), byMax);
+    EXPECT_FLOAT_EQ(valueAt(m, 2, 0, 0), 1.0f);
+    EXPECT_FLOAT_EQ(valueAt(m, 1, 0, 0), 0.25f);
+}
+
+TEST(VolumeRaw, GzipEqualsPlain) {
+    Bytes b;
+    for (int n = 0; n < 4 * 3 * 2; ++n) put<std::uint16_t>(b, static_cast<std::uint16_t>(n * 97), true);
+    const std::string gz = writeGz("g.raw.gz", b);
+    LoadOptions o;
+    o.hasLayout = true;
+    o.layout = layout(4, 3, 2, VoxelType::kUint16, Endian::kBig);
+    const Volume v = loadVolume(gz, o);
+    EXPECT_EQ(valueAt(v, 3, 2, 1), 23.0f * 97.0f);  // voxel number 3 + 2·4 + 1·12 = 23
+    EXPECT_EQ(valueAt(v, 1, 0, 0), 97.0f);
+}
+
+TEST(VolumeErrors, RawTruncatedAndTooLong) {
+    const std::string shortFile = writeFile("short.raw", Bytes(7, 1));
+    expectError([&] { loadRaw(shortFile, layout(2, 2, 2, VoxelType::kUint8, Endian::kLittle)); },
+                {shortFile, "truncated", "2x2x2", "8 bytes", "holds 7"});
+    const std::string longFile = writeFile("long.raw", Bytes(9, 1));
+    expectError([&] { loadRaw(longFile, layout(2, 2, 2, VoxelType::kUint8, Endian::kLittle)); },
+                {longFile, "contradicts the data size", "holds 9"});
+    RawLayout withOffset = layout(2, 2, 2, VoxelType::kUint8, Endian::kLittle);
+    withOffset.offset = 1;
+    EXPECT_NO_THROW(loadRaw(longFile, withOffset)) << "1 header byte + 8 voxels = 9";
+}
+
+TEST(VolumeErrors, UnknownTypeAndBadOptions) {
+    expectError([] { parseVoxelType("int17"); }, {"int17", "unknown voxel type"});
+    VolumeOptionText t;
+    t.dims = "4,4";
+    t.type = "uint8";
+    expectError([&] { parseLoadOptions(t); }, {"--dims", "4,4"});
+    t.dims = "4,4,4";
+    t.type = "int16";
+    expectError([&] { parseLoadOptions(t); }, {"--endian"});
+    t.endian = "middle";
+    expectError([&] { parseLoadOptions(t); }, {"--endian", "middle"});
+    t.endian = "big";
+    t.type = "complex";
+    expectError([&] { parseLoadOptions(t); }, {"--type", "complex"});
+    t.type = "int16";
+    t.normalize = "zero";
+    expectError([&] { parseLoadOptions(t); }, {"--normalize", "zero"});
+    t.normalize = "max";
+    const LoadOptions o = parseLoadOptions(t);
+    EXPECT_TRUE(o.hasLayout && o.normalizeByMax);
+    EXPECT_EQ(o.layout.dims, (std::array<int, 3>{4, 4, 4}));
+    EXPECT_EQ(o.layout.endian, Endian::kBig);
+    const std::string raw = writeFile("nolayout.raw", Bytes(8, 0));
+    expectError([&] { loadVolume(raw); }, {raw, "--dims"});
+}
+
+TEST(VolumeErrors, NonFiniteVoxels) {
+    Bytes nan, inf;
+    put<float>(nan, 1.0f, false);
+    put<float>(nan, std::numeric_limits<float>::quiet_NaN(), false);
+    put<double>(inf, 2.0, true);
+    put<double>(inf, -std::numeric_limits<double>::infinity(), true);
+    const std::string nanPath = writeFile("nan.raw", nan);
+    const std::string infPath = writeFile("inf.raw", inf);
+    expectError([&] { loadRaw(nanPath, layout(2, 1, 1, VoxelType::kFloat32, Endian::kLittle)); },
+                {nanPath, "voxel (1, 0, 0)", "NaN"});
+    expectError([&] { loadRaw(infPath, layout(1, 2, 1, VoxelType::kFloat64, Endian::kBig)); },
+                {infPath, "voxel (0, 1, 0)", "infinite"});
+    // A finite double beyond the float range cannot be stored either.
+    Bytes huge;
+    put<double>(huge, 1e300, false);
+    const std::string hugePath = writeFile("huge.raw", huge);
+    expectError([&] { loadRaw(hugePath, layout(1, 1, 1, VoxelType::kFloat64, Endian::kLittle)); },
+                {hugePath, "float range"});
+}
+
+TEST(VolumeErrors, GzipDamage) {
+    Bytes b(5000);
+    for (size_t n = 0; n < b.size(); ++n) b[n] = static_cast<unsigned char>((n * n) % 251);
+    const std::string good = writeGz("good.raw.gz", b);
+    const Bytes gz = readAll(good);
+    LoadOptions o;
+    o.hasLayout = true;
+    o.layout = layout(50, 100, 1, VoxelType::kUint8, Endian::kLittle);
+    EXPECT_NO_THROW(loadVolume(good, o));
+
+    const std::string cut = writeFile("cut.raw.gz", Bytes(gz.begin(), gz.begin() + gz.size() / 2));
+    expectError([&] { loadVolume(cut, o); }, {cut, "gzip"});
+    Bytes flipped = gz;
+    for (size_t n = 20; n < 60 && n < flipped.size(); ++n) flipped[n] ^= 0x5A;
+    const std::string bad = writeFile("flipped.raw.gz", flipped);
+    expectError([&] { loadVolume(bad, o); }, {bad, "gzip"});
+    const std::string notGz = writeFile("plain.raw.gz", b);
+    expectError([&] { loadVolume(notGz, o); }, {notGz, "not a gzip file"});
+    expectError([&] { loadVolume((tempDir() / "missing.raw.gz").string(), o); },
+                {"missing.raw.gz", "cannot open"});
+}
+
+// ---- NIfTI-1 -----------------------------------------------------------------------------------
+
+struct NiftiSpec {
+    bool big = false;
+    std::int16_t dims[4] = {3, 2, 2, 2};  // dim[0..3]
+    std::int16_t dim4 = 1;
+    std::int16_t datatype = 2;  // uint8
+    std::int16_t bitpix = 8;
+    float pixdim[4] = {1, 1, 1, 1};
+    float voxOffset = 352;
+    float slope = 1, inter = 0;
+    std::int16_t qformCode = 0, sformCode = 0;
+    float quat[3] = {0, 0, 0}, qoffset[3] = {0, 0, 0};
+    float srow[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    const char* magic = "n+1";
+    std::int32_t sizeofHdr = 348;
+};
+
+// The 348-byte header laid out as nifti1.h says (offsets in volume_file.cpp), 4 extension bytes,
+// then the voxel bytes.
+Bytes niftiFile(const NiftiSpec& s, const Bytes& voxels) {
+    Bytes h;
+    put<std::int32_t>(h, s.sizeofHdr, s.big);
+    h.resize(40, 0);
+    put<std::int16_t>(h, s.dims[0], s.big);
+    for (int a = 1; a <= 3; ++a) put<std::int16_t>(h, s.dims[a], s.big);
+    put<std::int16_t>(h, s.dim4, s.big);
+    for (int a = 5; a < 8; ++a) put<std::int16_t>(h, 1, s.big);
+    h.resize(70, 0);
+    put<std::int16_t>(h, s.datatype, s.big);
+    put<std::int16_t>(h, s.bitpix, s.big);
+    put<std::int16_t>(h, 0, s.big);
+    for (int a = 0; a < 4; ++a) put<float>(h, s.pixdim[a], s.big);
+    for (int a = 4; a < 8; ++a) put<float>(h, 1.0f, s.big);
+    put<float>(h, s.voxOffset, s.big);  // 108
+    put<float>(h, s.slope, s.big);      // 112
+    put<float>(h, s.inter, s.big);      // 116
+    h.resize(252, 0);
+    put<std::int16_t>(h, s.qformCode, s.big);
+    put<std::int16_t>(h, s.sformCode, s.big);
+    for (float q : s.quat) put<float>(h, q, s.big);
+    for (float q : s.qoffset) put<float>(h, q, s.big);
+    for (const auto& row : s.srow)
+        for (float x : row) put<float>(h, x, s.big);
+    h.resize(344, 0);
+    for (int c = 0; c < 4; ++c) h.push_back(static_cast<unsigned char>(s.magic[c]));  // incl. '\0'
+    h.resize(352, 0);  // the 4-byte extension flag, all zero
+    h.insert(h.end(), voxels.begin(), voxels.end());
+    return h;
+}
+
+Bytes ramp(int n) {
+    Bytes b;
+    for (int v = 1; v <= n; ++v) b.push_back(static_cast<unsigned char>(v));
+    return b;
+}
+
+TEST(VolumeNifti, SformLittleEndian) {
+    NiftiSpec s;
+    s.sformCode = 2;
+    // x = −2 i + 90, y = 2 j − 126, z = 2 k − 72 (the SPM priors' LAS affine).
+    s.srow[0][0] = -2; s.srow[0][3] = 90;
+    s.srow[1][1] = 2; s.srow[1][3] = -126;
+    s.srow[2][2] = 2; s.srow[2][3] = -72;
+    const std::string path = writeFile("sform.nii", niftiFile(s, ramp(8)));
+    const Volume v = loadNifti(path);
+    expectNear(world(v, 0, 0, 0), {90, -126, -72});
+    expectNear(world(v, 1, 1, 1), {88, -124, -70});
+    EXPECT_EQ(valueAt(v, 1, 1, 1), 8.0f);  // x fastest: voxel number 1 + 2 + 4 = 7 → value 8
+    EXPECT_EQ(valueAt(v, 1, 0, 0), 2.0f);
+    EXPECT_DOUBLE_EQ(v.spacing[0], 2.0);
+}
+
+// qform (nifti1.h METHOD 2) for the quaternion of a 90° rotation about z: b = c = 0,
+// d = sin 45° = √½, a = √(1 − d²) = √½. R = [[a²−d², −2ad, 0], [2ad, a²−d², 0], [0, 0, a²+d²]]
+// = [[0, −1, 0], [1, 0, 0], [0, 0, 1]]. With pixdim (2, 3, 4) and qoffset (10, 20, 30):
+// world(i, j, k) = (−3 j + 10, 2 i + 20, qfac·4 k + 30). Big-endian header, int16 data.
+TEST(VolumeNifti, QformBigEndianWithQfac) {
+    for (float qfac : {1.0f, -1.0f}) {
+        NiftiSpec s;
+        s.big = true;
+        s.datatype = 4;
+        s.bitpix = 16;
+        s.qformCode = 1;
+        s.quat[2] = static_cast<float>(std::sqrt(0.5));
+        s.qoffset[0] = 10; s.qoffset[1] = 20; s.qoffset[2] = 30;
+        s.pixdim[0] = qfac; s.pixdim[1] = 2; s.pixdim[2] = 3; s.pixdim[3] = 4;
+        Bytes voxels;
+        for (int n = 0; n < 8; ++n) put<std::int16_t>(voxels, static_cast<std::int16_t>(-300 * n), true);
+        const std::string path = writeFile("qform.nii", niftiFile(s, voxels));
+        const Volume v = loadNifti(path);
+        expectNear(world(v, 0, 0, 0), {10, 20, 30});
+        expectNear(world(v, 1, 0, 0), {10, 22, 30});
+        expectNear(world(v, 0, 1, 0), {7, 20, 30});
+        expectNear(world(v, 0, 0, 1), {10, 20, 30 + 4 * qfac});
+        EXPECT_EQ(valueAt(v, 1, 1, 1), -2100.0f);
+    }
+}
+
+TEST(VolumeNifti, PixdimFallbackAndScaling) {
+    NiftiSpec s;
+    s.pixdim[1] = 0.5; s.pixdim[2] = 0.75; s.pixdim[3] = 3;
+    s.slope = 0;  // nifti1.h: slope 0 means no scaling
+    s.inter = 7;
+    Volume v = loadNifti(writeFile("pixdim.nii", niftiFile(s, ramp(8))));
+    expectNear(world(v, 1, 1, 1), {0.5, 0.75, 3});
+    EXPECT_EQ(valueAt(v, 1, 0, 0), 2.0f);
+    s.slope = 0.5;
+    s.inter = -1;  // y = 0.5 x − 1
+    v = loadNifti(writeFile("scaled.nii", niftiFile(s, ramp(8))));
+    EXPECT_FLOAT_EQ(valueAt(v, 1, 1, 1), 3.0f);  // 0.5·8 − 1
+    EXPECT_FLOAT_EQ(valueAt(v, 1, 0, 0), 0.0f);  // 0.5·2 − 1: zero, the background
+    EXPECT_FALSE(activeAt(v, 1, 0, 0));
+    EXPECT_DOUBLE_EQ(v.originalMin, -0.5);
+}
+
+TEST(VolumeNifti, GzippedEqualsPlain) {
+    NiftiSpec s;
+    s.big = true;
+    const Bytes file = niftiFile(s, ramp(8));
+    const Volume plain = loadVolume(writeFile("z.nii", file));
+    const Volume gz = loadVolume(writeGz("z.nii.gz", file));
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) EXPECT_EQ(valueAt(plain, i, j, k), valueAt(gz, i, j, k));
+    EXPECT_EQ(valueAt(gz, 0, 1, 1), 7.0f);
+}
+
+TEST(VolumeErrors, NiftiHeaders) {
+    const Bytes voxels = ramp(8);
+    auto check = [&](const std::string& name, const NiftiSpec& s, const Bytes& data,
+                     std::initializer_list<std::string> parts) {
+        const std::string path = writeFile(name, niftiFile(s, data));
+        expectError([&] { loadNifti(path); }, parts);
+        expectError([&] { loadNifti(path); }, {path});
+    };
+    NiftiSpec s;
+    check("trunc.nii", s, ramp(7), {"truncated", "8 bytes", "holds 7"});
+    check("long.nii", s, ramp(9), {"contradicts the data size", "holds 9"});
+    NiftiSpec wrongMagic;
+    wrongMagic.magic = "abc";
+    check("magic.nii", wrongMagic, voxels, {"wrong magic"});
+    NiftiSpec pair;
+    pair.magic = "ni1";
+    check("pair.nii", pair, voxels, {"two-file"});
+    NiftiSpec type;
+    type.datatype = 32;  // complex64
+    check("type.nii", type, voxels, {"unknown or unsupported NIfTI datatype 32"});
+    NiftiSpec bitpix;
+    bitpix.bitpix = 16;
+    check("bitpix.nii", bitpix, voxels, {"bitpix 16"});
+    NiftiSpec size;
+    size.sizeofHdr = 349;
+    check("sizeof.nii", size, voxels, {"not a NIfTI-1 file"});
+    NiftiSpec fourD;
+    fourD.dims[0] = 4;
+    fourD.dim4 = 2;
+    check("4d.nii", fourD, voxels, {"only 3-D"});
+    NiftiSpec nanSpec;
+    nanSpec.datatype = 16;
+    nanSpec.bitpix = 32;
+    Bytes floats;
+    for (int n = 0; n < 8; ++n)
+        put<float>(floats, n == 5 ? std::numeric_limits<float>::infinity() : 1.0f, false);
+    check("inf.nii", nanSpec, floats, {"voxel (1, 0, 1)", "infinite"});
+    const std::string tiny = writeFile("tiny.nii", Bytes(100, 0));
+    expectError([&] { loadNifti(tiny); }, {tiny, "truncated", "348"});
+}
+
+// ---- NRRD --------------------------------------------------------------------------------------
+
+TEST(VolumeNrrd, DetachedHeaderWithSpacingsAndDirections) {
+    Bytes b;
+    for (int n = 0; n < 8; ++n) put<std::int16_t>(b, static_cast<std::int16_t>(n + 1), true);
+    writeGz("n.raw.gz", b);
+    const std::string header = "NRRD0004\n# a comment\ntype: short\ndimension: 3\n"
+                               "sizes: 2 2 2\nspacings: 1 1 2\nendian: big\nencoding: gzip\n"
+                               "data file: n.raw.gz\n";
+    const std::string path = writeFile("n.nhdr", Bytes(header.begin(), header.end()));
+    const Volume v = loadVolume(path);
+    EXPECT_EQ(valueAt(v, 1, 1, 1), 8.0f);
+    expectNear(world(v, 1, 1, 1), {1, 1, 2});
+
+    const std::string dirs = "NRRD0005\ntype: int16\ndimension: 3\nsizes: 2 2 2\n"
+                             "space directions: (0,2,0) (-1,0,0) (0,0,3)\n"
+                             "space origin: (5,6,7)\nendian: big\nencoding: gzip\n"
+                             "data file: n.raw.gz\n";
+    const Volume d = loadVolume(writeFile("d.nhdr", Bytes(dirs.begin(), dirs.end())));
+    expectNear(world(d, 1, 0, 0), {5, 8, 7});  // origin + first direction
+    expectNear(world(d, 0, 1, 1), {4, 6, 10});
+}
+
+TEST(VolumeErrors, NrrdHeaders) {
+    const std::string bad = "NRRX0004\ntype: short\n";
+    const std::string badPath = writeFile("bad.nhdr", Bytes(bad.begin(), bad.end()));
+    expectError([&] { loadVolume(badPath); }, {badPath, "wrong magic"});
+    const std::string missing = "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\n"
+                                "endian: big\ndata file: nowhere.raw\n";
+    const std::string missingPath = writeFile("missing.nhdr", Bytes(missing.begin(), missing.end()));
+    expectError([&] { loadVolume(missingPath); }, {"nowhere.raw", "cannot open"});
+    const std::string type = "NRRD0004\ntype: block\ndimension: 3\nsizes: 2 2 2\n"
+                             "data file: n.raw.gz\n";
+    const std::string typePath = writeFile("type.nhdr", Bytes(type.begin(), type.end()));
+    expectError([&] { loadVolume(typePath); }, {typePath, "unknown voxel type 'block'"});
+}
+
+// ---- .vdb --------------------------------------------------------------------------------------
+
+TEST(VolumeVdb, RoundTripKeepsValuesTransformAndMetadata) {
+    Bytes b;
+    for (int n = 0; n < 24; ++n) put<std::int16_t>(b, static_cast<std::int16_t>(n % 5 == 0 ? 0 : n * 10), false);
+    RawLayout l = layout(4, 3, 2, VoxelType::kInt16, Endian::kLittle);
+    l.spacing = {0.5, 1, 2};
+    LoadOptions o;
+    o.normalize = 230;
+    o.background = 40;
+    const Volume a = loadRaw(writeFile("rt.raw", b), l, o);
+    const std::string out = (tempDir() / "rt.vdb").string();
+    writeVdb(a, out, "ct");
+    LoadOptions byName;
+    byName.gridName = "ct";
+    const Volume c = loadVolume(out, byName);
+    EXPECT_EQ(c.grid->getName(), "ct");
+    EXPECT_EQ(c.dims, a.dims);
+    EXPECT_DOUBLE_EQ(c.originalMax, 230.0);
+    EXPECT_DOUBLE_EQ(c.valueScale, 1.0 / 230.0);
+    EXPECT_DOUBLE_EQ(c.background, 40.0);
+    EXPECT_EQ(c.grid->activeVoxelCount(), a.grid->activeVoxelCount());
+    for (int k = 0; k < 2; ++k)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 4; ++i) {
+                EXPECT_EQ(valueAt(c, i, j, k), valueAt(a, i, j, k));
+                EXPECT_EQ(activeAt(c, i, j, k), activeAt(a, i, j, k));
+            }
+    expectNear(world(c, 3, 2, 1), {1.5, 2, 2});
+    LoadOptions wrong;
+    wrong.gridName = "nope";
+    expectError([&] { loadVdb(out, wrong); }, {out, "no grid named 'nope'", "ct"});
+}
+
+TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
+    const Volume v = loadRaw(writeFile("w.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const fs::path dir = tempDir() / "no_such_dir";
+    expectError([&] { writeVdb(v, (dir / "x.vdb").string()); }, {"x.vdb", "cannot write"});
+    EXPECT_FALSE(fs::exists(dir));
+    const std::string notVdb = writeFile("fake.vdb", Bytes(64, 7));
+    expectError([&] { loadVdb(notVdb); }, {notVdb, "cannot read the OpenVDB file"});
+
+    // convert: a bad input writes no output and leaves no temporary file behind.
+    const std::string out = (tempDir() / "convert_out.vdb").string();
+    fs::remove(out);
+    const std::string shortRaw = writeFile("conv.raw", Bytes(5, 1));
+    LoadOptions o;
+    o.hasLayout = true;
+    o.layout = layout(2, 2, 2, VoxelType::kUint8, Endian::kLittle);
+    expectError([&] { convertVolume(shortRaw, out, o, ""); }, {shortRaw, "truncated"});
+    EXPECT_FALSE(fs::exists(out));
+    expectError([&] { convertVolume(shortRaw, (tempDir() / "x.nii").string(), o, ""); },
+                {"x.nii", ".vdb"});
+    for (const auto& entry : fs::directory_iterator(tempDir()))
+        EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
+            << entry.path();
+    const std::string goodRaw = writeFile("conv_ok.raw", Bytes{0, 3, 0, 4, 5, 0, 0, 9});
+    const VolumeSummary s = convertVolume(goodRaw, out, o, "");
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_EQ(s.activeVoxels, 4);
+    EXPECT_DOUBLE_EQ(s.mean, 21.0 / 8.0);
+    EXPECT_DOUBLE_EQ(s.max, 9.0);
+}
+
+}  // namespace
+}  // namespace lobe

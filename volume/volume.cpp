@@ -1,0 +1,383 @@
+// Volumes as OpenVDB grids: building a sparse FloatGrid from a dense file array (see volume.h
+// for the sparsity rule), .vdb input and output, the dispatcher and the statistics `lobe info`
+// prints. The only translation unit of lobe_volume that includes OpenVDB's tools.
+#include "volume/volume.h"
+
+#include "core/error.h"
+#include "volume/volume_file.h"
+#include "volume/volume_summary.h"
+
+#include <openvdb/tools/Dense.h>
+#include <openvdb/tools/Prune.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace lobe {
+
+namespace {
+
+constexpr const char* kDefaultGridName = "density";
+
+// Metadata keys under which writeVdb stores what loadVdb needs to restore the Volume.
+constexpr const char* kMetaDims = "lobe_dims";
+constexpr const char* kMetaIndexOrigin = "lobe_index_origin";
+constexpr const char* kMetaSource = "lobe_source";
+constexpr const char* kMetaOriginalMin = "lobe_original_min";
+constexpr const char* kMetaOriginalMax = "lobe_original_max";
+constexpr const char* kMetaValueScale = "lobe_value_scale";
+constexpr const char* kMetaBackground = "lobe_background";
+
+void initializeOpenVdb() {
+    // openvdb::initialize registers grid and metadata types; it is idempotent and guarded.
+    static const bool done = [] {
+        openvdb::initialize();
+        return true;
+    }();
+    (void)done;
+}
+
+// The value multiplier the options ask for, given the original range.
+double valueScaleFor(const std::string& path, const LoadOptions& options, double originalMax) {
+    double scale = options.scale;
+    if (options.normalizeByMax) {
+        if (!(originalMax > 0.0))
+            throw Error(path + ": cannot normalise by the maximum, which is " +
+                        std::to_string(originalMax) + " (not positive)");
+        scale = 1.0 / originalMax;
+    } else if (options.normalize != 0.0) {
+        if (!(options.normalize > 0.0) || !std::isfinite(options.normalize))
+            throw Error(path + ": the normalisation divisor must be positive, got " +
+                        std::to_string(options.normalize));
+        scale = 1.0 / options.normalize;
+    }
+    if (!(scale > 0.0) || !std::isfinite(scale))
+        throw Error(path + ": the value scale must be positive and finite, got " +
+                    std::to_string(scale));
+    return scale;
+}
+
+// Deactivates active values ≤ threshold (they stay stored: lookups still return them), then
+// merges constant nodes (tolerance 0, so no value changes).
+void applyBackground(openvdb::FloatTree& tree, float threshold) {
+    for (auto it = tree.beginValueOn(); it; ++it)
+        if (*it <= threshold) it.setValueOff();
+    openvdb::tools::prune(tree);
+}
+
+Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
+                   const LoadOptions& options) {
+    initializeOpenVdb();
+    Volume volume;
+    volume.sourcePath = path;
+    volume.dims = dense.dims;
+    volume.originalMin = dense.min;
+    volume.originalMax = dense.max;
+    volume.valueScale = valueScaleFor(path, options, dense.max);
+    volume.background = options.background;
+    if (volume.valueScale != 1.0)
+        for (float& v : dense.values) {
+            v = static_cast<float>(double(v) * volume.valueScale);
+            if (!std::isfinite(v))
+                throw Error(path + ": a value overflows the float range after scaling by " +
+                            std::to_string(volume.valueScale));
+        }
+
+    // The file's arrays are x fastest: OpenVDB's LayoutXYZ (offset = i + j·X + k·X·Y).
+    const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0),
+                                 openvdb::Coord(dense.dims[0] - 1, dense.dims[1] - 1,
+                                                dense.dims[2] - 1));
+    openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> denseGrid(box, dense.values.data());
+    volume.grid = openvdb::FloatGrid::create(0.0f);
+    // Tolerance 0: only voxels exactly equal to the background 0 are left out (they read back
+    // as 0, so the copy is lossless); copyFromDense also collapses constant blocks into tiles.
+    openvdb::tools::copyFromDense(denseGrid, volume.grid->tree(), 0.0f);
+    applyBackground(volume.grid->tree(),
+                    static_cast<float>(options.background * volume.valueScale));
+    std::vector<float>().swap(dense.values);
+
+    // OpenVDB multiplies row vectors on the left (world = index · M), so M is the transpose of
+    // the file's column-vector affine A, with the translation in the last row.
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    for (int row = 0; row < 3; ++row) {
+        for (int col = 0; col < 3; ++col) m[col][row] = dense.affine[row][col];
+        m[3][row] = dense.affine[row][3];
+    }
+    try {
+        volume.grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    } catch (const openvdb::Exception& e) {
+        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() + ")");
+    }
+    for (int col = 0; col < 3; ++col)
+        volume.spacing[col] = std::sqrt(dense.affine[0][col] * dense.affine[0][col] +
+                                        dense.affine[1][col] * dense.affine[1][col] +
+                                        dense.affine[2][col] * dense.affine[2][col]);
+    volume.grid->setName(kDefaultGridName);
+    volume.grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    return volume;
+}
+
+template <typename MetaT, typename T>
+bool readMeta(const openvdb::GridBase& grid, const char* key, T& out) {
+    const auto meta = grid.getMetadata<MetaT>(key);
+    if (!meta) return false;
+    out = meta->value();
+    return true;
+}
+
+}  // namespace
+
+Volume loadRaw(const std::string& path, const RawLayout& layout, const LoadOptions& options) {
+    return buildVolume(detail::readRawDense(path, layout), path, options);
+}
+
+Volume loadNifti(const std::string& path, const LoadOptions& options) {
+    return buildVolume(detail::readNiftiDense(path), path, options);
+}
+
+Volume loadNrrd(const std::string& path, const LoadOptions& options) {
+    return buildVolume(detail::readNrrdDense(path), path, options);
+}
+
+Volume loadVdb(const std::string& path, const LoadOptions& options) {
+    initializeOpenVdb();
+    openvdb::GridBase::Ptr base;
+    try {
+        openvdb::io::File file(path);
+        file.open();
+        if (!options.gridName.empty()) {
+            if (!file.hasGrid(options.gridName)) {
+                std::string names;
+                for (auto it = file.beginName(); it != file.endName(); ++it)
+                    names += (names.empty() ? "" : ", ") + it.gridName();
+                file.close();
+                throw Error(path + ": no grid named '" + options.gridName + "' (the file has: " +
+                            (names.empty() ? "none" : names) + ")");
+            }
+            base = file.readGrid(options.gridName);
+        } else {
+            const openvdb::GridPtrVecPtr grids = file.getGrids();
+            for (const auto& g : *grids)
+                if (g && g->isType<openvdb::FloatGrid>()) {
+                    base = g;
+                    break;
+                }
+            if (!base) {
+                file.close();
+                throw Error(path + ": the file holds no float grid (Lobe volumes are float grids)");
+            }
+        }
+        file.close();
+    } catch (const openvdb::Exception& e) {
+        throw Error(path + ": cannot read the OpenVDB file (" + e.what() + ")");
+    }
+    openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+    if (!grid)
+        throw Error(path + ": grid '" + base->getName() + "' has type " + base->valueType() +
+                    ", expected a float grid");
+    if (!grid->transform().isLinear())
+        throw Error(path + ": grid '" + grid->getName() + "' has a non-linear transform (" +
+                    grid->transform().mapType() + ")");
+
+    Volume volume;
+    volume.sourcePath = path;
+    volume.grid = grid;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (auto it = grid->tree().cbeginValueAll(); it; ++it) {
+        if (!std::isfinite(*it)) {
+            const openvdb::Coord c = it.getCoord();
+            throw Error(path + ": grid '" + grid->getName() + "' holds a non-finite value at (" +
+                        std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " +
+                        std::to_string(c.z()) + "); volumes must hold finite values");
+        }
+        lo = std::min(lo, double(*it));
+        hi = std::max(hi, double(*it));
+    }
+    openvdb::Vec3i dims, origin(0, 0, 0);
+    if (readMeta<openvdb::Vec3IMetadata>(*grid, kMetaDims, dims)) {
+        readMeta<openvdb::Vec3IMetadata>(*grid, kMetaIndexOrigin, origin);
+    } else {
+        // A foreign grid: its extent is the bounding box of everything stored.
+        const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+        if (box.empty()) throw Error(path + ": grid '" + grid->getName() + "' is empty");
+        dims = openvdb::Vec3i(box.dim().x(), box.dim().y(), box.dim().z());
+        origin = openvdb::Vec3i(box.min().x(), box.min().y(), box.min().z());
+    }
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 1) throw Error(path + ": metadata " + kMetaDims + " is not positive");
+        volume.dims[a] = dims[a];
+        volume.indexOrigin[a] = origin[a];
+    }
+    double storedScale = 1.0;
+    readMeta<openvdb::DoubleMetadata>(*grid, kMetaValueScale, storedScale);
+    if (!(storedScale > 0.0)) storedScale = 1.0;
+    volume.originalMin = lo / storedScale;
+    volume.originalMax = hi / storedScale;
+    readMeta<openvdb::DoubleMetadata>(*grid, kMetaOriginalMin, volume.originalMin);
+    readMeta<openvdb::DoubleMetadata>(*grid, kMetaOriginalMax, volume.originalMax);
+    readMeta<openvdb::DoubleMetadata>(*grid, kMetaBackground, volume.background);
+    std::string source;
+    if (readMeta<openvdb::StringMetadata>(*grid, kMetaSource, source)) volume.sourcePath = source;
+
+    // Further scaling asked for now composes with what the file already holds.
+    const double extra = valueScaleFor(path, options, volume.originalMax * storedScale);
+    volume.valueScale = storedScale * extra;
+    if (extra != 1.0)
+        for (auto it = grid->tree().beginValueAll(); it; ++it)
+            it.setValue(static_cast<float>(double(*it) * extra));
+    if (options.background > volume.background) {
+        applyBackground(grid->tree(), static_cast<float>(options.background * volume.valueScale));
+        volume.background = options.background;
+    }
+    const openvdb::math::Transform& t = grid->transform();
+    const openvdb::Vec3d o = t.indexToWorld(openvdb::Vec3d(0, 0, 0));
+    for (int a = 0; a < 3; ++a) {
+        openvdb::Vec3d e(0, 0, 0);
+        e[a] = 1.0;
+        volume.spacing[a] = (t.indexToWorld(e) - o).length();
+    }
+    return volume;
+}
+
+Volume loadVolume(const std::string& path, const LoadOptions& options) {
+    using detail::endsWith;
+    if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) return loadNifti(path, options);
+    if (endsWith(path, ".nhdr")) return loadNrrd(path, options);
+    if (endsWith(path, ".vdb")) return loadVdb(path, options);
+    if (!options.hasLayout)
+        throw Error(path + ": a headerless (raw) volume needs its layout: give --dims X,Y,Z, "
+                           "--type, --endian and --spacing (known formats: .nii, .nii.gz, .nhdr, "
+                           ".vdb)");
+    RawLayout layout = options.layout;
+    layout.gzip = endsWith(path, ".gz");
+    return loadRaw(path, layout, options);
+}
+
+void writeVdb(const Volume& volume, const std::string& path, const std::string& gridName) {
+    initializeOpenVdb();
+    if (!volume.grid) throw Error(path + ": no grid to write");
+    openvdb::FloatGrid::Ptr out = volume.grid->copy();  // shares the tree; own metadata
+    out->setName(gridName.empty() ? std::string(kDefaultGridName) : gridName);
+    out->insertMeta(kMetaDims, openvdb::Vec3IMetadata(openvdb::Vec3i(
+                                   volume.dims[0], volume.dims[1], volume.dims[2])));
+    out->insertMeta(kMetaIndexOrigin,
+                    openvdb::Vec3IMetadata(openvdb::Vec3i(volume.indexOrigin[0],
+                                                          volume.indexOrigin[1],
+                                                          volume.indexOrigin[2])));
+    out->insertMeta(kMetaSource, openvdb::StringMetadata(volume.sourcePath));
+    out->insertMeta(kMetaOriginalMin, openvdb::DoubleMetadata(volume.originalMin));
+    out->insertMeta(kMetaOriginalMax, openvdb::DoubleMetadata(volume.originalMax));
+    out->insertMeta(kMetaValueScale, openvdb::DoubleMetadata(volume.valueScale));
+    out->insertMeta(kMetaBackground, openvdb::DoubleMetadata(volume.background));
+
+    const std::string temp = path + ".tmp" + std::to_string(::getpid());
+    try {
+        openvdb::io::File file(temp);
+        file.write({out});
+        file.close();
+    } catch (const openvdb::Exception& e) {
+        std::remove(temp.c_str());
+        throw Error(path + ": cannot write the OpenVDB file (" + e.what() + ")");
+    }
+    if (std::rename(temp.c_str(), path.c_str()) != 0) {
+        std::remove(temp.c_str());
+        throw Error(path + ": cannot move the finished file into place");
+    }
+}
+
+VolumeStats computeStats(const Volume& volume) {
+    VolumeStats s;
+    const openvdb::FloatGrid& grid = *volume.grid;
+    auto acc = grid.getConstAccessor();
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0;
+    const std::array<int, 3>& o = volume.indexOrigin;
+    for (int k = 0; k < volume.dims[2]; ++k) {
+        double slice = 0.0;  // per-slice partial sums keep the double sum accurate
+        for (int j = 0; j < volume.dims[1]; ++j)
+            for (int i = 0; i < volume.dims[0]; ++i) {
+                const double v = acc.getValue(openvdb::Coord(o[0] + i, o[1] + j, o[2] + k));
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+                slice += v;
+            }
+        sum += slice;
+    }
+    s.voxels = std::int64_t(volume.dims[0]) * volume.dims[1] * volume.dims[2];
+    s.min = lo;
+    s.max = hi;
+    s.mean = s.voxels > 0 ? sum / double(s.voxels) : 0.0;
+    s.activeVoxels = static_cast<std::int64_t>(grid.activeVoxelCount());
+    s.memoryBytes = static_cast<std::int64_t>(grid.memUsage());
+    for (int corner = 0; corner < 8; ++corner) {
+        openvdb::Vec3d p;
+        for (int a = 0; a < 3; ++a)
+            p[a] = o[a] - 0.5 + ((corner >> a) & 1 ? volume.dims[a] : 0);
+        s.worldBox.expand(grid.transform().indexToWorld(p));
+    }
+    return s;
+}
+
+namespace {
+
+VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
+    const VolumeStats s = computeStats(volume);
+    VolumeSummary out;
+    out.path = path;
+    out.sourcePath = volume.sourcePath;
+    out.gridName = volume.grid->getName();
+    out.dims = volume.dims;
+    out.indexOrigin = volume.indexOrigin;
+    out.spacing = volume.spacing;
+    const openvdb::Vec3d first = volume.grid->transform().indexToWorld(openvdb::Vec3d(
+        volume.indexOrigin[0], volume.indexOrigin[1], volume.indexOrigin[2]));
+    for (int a = 0; a < 3; ++a) {
+        out.worldMin[a] = s.worldBox.min()[a];
+        out.worldMax[a] = s.worldBox.max()[a];
+        out.worldOfFirstVoxel[a] = first[a];
+    }
+    out.originalMin = volume.originalMin;
+    out.originalMax = volume.originalMax;
+    out.valueScale = volume.valueScale;
+    out.background = volume.background;
+    out.min = s.min;
+    out.max = s.max;
+    out.mean = s.mean;
+    out.voxels = s.voxels;
+    out.activeVoxels = s.activeVoxels;
+    out.memoryBytes = s.memoryBytes;
+    return out;
+}
+
+}  // namespace
+
+VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const Volume volume = loadVolume(path, options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    VolumeSummary out = summaryOf(volume, path);
+    out.loadSeconds = seconds;
+    return out;
+}
+
+VolumeSummary convertVolume(const std::string& in, const std::string& out,
+                            const LoadOptions& options, const std::string& gridName) {
+    if (!detail::endsWith(out, ".vdb"))
+        throw Error(out + ": the output of convert must be a .vdb file");
+    const auto start = std::chrono::steady_clock::now();
+    const Volume volume = loadVolume(in, options);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writeVdb(volume, out, gridName);
+    VolumeSummary summary = summaryOf(volume, out);
+    summary.gridName = gridName.empty() ? std::string(kDefaultGridName) : gridName;
+    summary.loadSeconds = seconds;
+    return summary;
+}
+
+}  // namespace lobe

@@ -1,0 +1,75 @@
+// Volumes as OpenVDB float grids, and their loaders: headerless raw files with an explicit layout,
+// NIfTI-1 (.nii, .nii.gz), simple detached NRRD headers (.nhdr) and OpenVDB files (.vdb).
+//
+// Index and world space. A Volume's grid stores voxel (i, j, k), 0 ≤ i < dims[0] …, at the integer
+// index coordinate (i, j, k) (plus indexOrigin for foreign .vdb files): voxel *centres* sit on the
+// integer lattice, which is both OpenVDB's and NIfTI's convention. The grid's transform is the
+// full index → world affine map: diag(spacing) for raw files, the sform/qform/pixdim map for NIfTI
+// (nifti1.h, "METHOD 1/2/3"), the spacings / space directions for NRRD.
+//
+// Values. A stored value is (raw · slope + intercept) · valueScale, in float. slope/intercept are
+// the file's own rescaling (NIfTI scl_slope / scl_inter, slope 0 meaning 1); valueScale is ours:
+// LoadOptions::scale, or 1/divisor with LoadOptions::normalize (e.g. the CThead's v/3272 so the
+// paper's iso-value 0.5 means raw 1636). Normalisation lives in the loader, not in the renderer,
+// so every consumer (iso-surfaces, ray marching, `lobe info`) sees the same numbers; the Volume
+// remembers valueScale and the unscaled range so the original units are never lost.
+//
+// Sparsity. The grid's background is 0. Voxels whose value is exactly 0 are not stored (they read
+// back as the background 0, so nothing is lost); whole 8³ leaves and larger regions of zeros
+// collapse into tiles. Non-zero voxels are stored with their values; those ≤ LoadOptions::
+// background are stored *inactive*, the others active. Stored-but-inactive voxels still answer
+// every accessor lookup with their true value, so trilinear/B-spline reconstruction and
+// iso-surfacing are exact across the threshold, while the active topology (and the tree's
+// tiles) give empty-space skipping: the air around a head and the outside of a skull-stripped
+// brain are inactive. Non-finite voxels (NaN, ±Inf) are refused at load, never stored.
+//
+// Errors. Every problem with a file (missing, truncated, a header contradicting the data size,
+// an unknown type, wrong magic, gzip damage, NaN/Inf voxels) throws one lobe::Error whose message
+// names the file and the problem. writeVdb writes to a temporary name and renames, so a failed
+// write leaves nothing.
+#pragma once
+
+#include "volume/volume_layout.h"
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace lobe {
+
+struct Volume {
+    openvdb::FloatGrid::Ptr grid;
+    std::string sourcePath;
+    std::array<int, 3> dims{0, 0, 0};
+    std::array<int, 3> indexOrigin{0, 0, 0};   // index of voxel (0,0,0); 0 except foreign .vdb
+    std::array<double, 3> spacing{1, 1, 1};    // world lengths of the index unit vectors
+    double originalMin = 0.0;                  // value range before valueScale
+    double originalMax = 0.0;
+    double valueScale = 1.0;
+    double background = 0.0;
+};
+
+Volume loadRaw(const std::string& path, const RawLayout& layout, const LoadOptions& options = {});
+Volume loadNifti(const std::string& path, const LoadOptions& options = {});
+Volume loadNrrd(const std::string& path, const LoadOptions& options = {});  // detached .nhdr
+Volume loadVdb(const std::string& path, const LoadOptions& options = {});
+// Dispatches on the name: .nii / .nii.gz, .nhdr, .vdb, otherwise raw (.raw, .raw.gz, …), which
+// needs options.hasLayout.
+Volume loadVolume(const std::string& path, const LoadOptions& options = {});
+
+// Writes the volume's grid (named gridName, or "density") with its metadata (dims, source,
+// original range, value scale) so loadVdb restores the whole Volume. Temporary name + rename.
+void writeVdb(const Volume& volume, const std::string& path, const std::string& gridName = "");
+
+struct VolumeStats {
+    double min = 0.0, max = 0.0, mean = 0.0;  // over all dims voxels, stored values
+    std::int64_t voxels = 0;
+    std::int64_t activeVoxels = 0;
+    std::int64_t memoryBytes = 0;  // the grid's tree, from memUsage()
+    openvdb::BBoxd worldBox;       // world box of the voxel lattice grown by half a voxel
+};
+VolumeStats computeStats(const Volume& volume);
+
+}  // namespace lobe
