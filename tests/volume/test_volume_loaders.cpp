@@ -538,6 +538,14 @@ TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
     expectError([&] { writeVdb(v, (dir / "x.vdb").string()); }, {"x.vdb", "cannot write"});
     EXPECT_FALSE(fs::exists(dir));
     const std::string notVdb = writeFile("fake.vdb", Bytes(64, 7));
+    expectError([&] { loadVdb((tempDir() / "absent.vdb").string()); }, {"absent.vdb"});
+
+    // A .vdb written by someone else holding a NaN voxel is refused like any other file.
+    openvdb::FloatGrid::Ptr nanGrid = openvdb::FloatGrid::create(0.0f);
+    nanGrid->tree().setValue(openvdb::Coord(3, 4, 5), std::numeric_limits<float>::quiet_NaN());
+    const std::string nanVdb = (tempDir() / "nan.vdb").string();
+    openvdb::io::File(nanVdb).write({nanGrid});
+    expectError([&] { loadVdb(nanVdb); }, {nanVdb, "non-finite value at (3, 4, 5)"});
     expectError([&] { loadVdb(notVdb); }, {notVdb, "cannot read the OpenVDB file"});
 
     // convert: a bad input writes no output and leaves no temporary file behind.
