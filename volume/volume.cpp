@@ -16,6 +16,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <limits>
 
 namespace lobe {
@@ -249,6 +251,8 @@ Volume loadVolume(const std::string& path, const LoadOptions& options) {
     if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) return loadNifti(path, options);
     if (endsWith(path, ".nhdr")) return loadNrrd(path, options);
     if (endsWith(path, ".vdb")) return loadVdb(path, options);
+    if (!std::ifstream(path, std::ios::binary))
+        throw Error(path + ": cannot open the file (" + std::strerror(errno) + ")");
     if (!options.hasLayout)
         throw Error(path + ": a headerless (raw) volume needs its layout: give --dims X,Y,Z, "
                            "--type, --endian and --spacing (known formats: .nii, .nii.gz, .nhdr, "

@@ -248,6 +248,8 @@ TEST(VolumeErrors, UnknownTypeAndBadOptions) {
     EXPECT_EQ(o.layout.endian, Endian::kBig);
     const std::string raw = writeFile("nolayout.raw", Bytes(8, 0));
     expectError([&] { loadVolume(raw); }, {raw, "--dims"});
+    const std::string absent = (tempDir() / "absent.raw").string();
+    expectError([&] { loadVolume(absent); }, {absent, "cannot open"});
 }
 
 TEST(VolumeErrors, NonFiniteVoxels) {
