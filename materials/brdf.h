@@ -7,6 +7,7 @@
 #include "materials/lafortune.h"
 #include "materials/lambert.h"
 #include "materials/phong.h"
+#include "materials/poulin_fournier.h"
 #include "materials/schlick_lewis.h"
 #include "materials/strauss.h"
 #include "materials/ward.h"
@@ -15,8 +16,8 @@
 
 namespace lobe {
 
-using Brdf = std::variant<Lambert, Phong, Strauss, SchlickLewis, Ward, CookTorrance, Lafortune,
-                          AshikhminShirley>;
+using Brdf = std::variant<Lambert, Phong, Strauss, SchlickLewis, Ward, CookTorrance, PoulinFournier,
+                          Lafortune, AshikhminShirley>;
 
 // f(wi, wo) per band in sr⁻¹, without the cosine; wi and wo unit vectors in the local frame.
 inline Spectrum evalBrdf(const Brdf& brdf, const Vec3& wi, const Vec3& wo) {

@@ -26,6 +26,7 @@ const std::vector<BrdfModelInfo>& brdfModels() {
         infoFor<SchlickLewis>(),
         infoFor<Ward>(),
         infoFor<CookTorrance>(),
+        infoFor<PoulinFournier>(),
         infoFor<Lafortune>(),
         infoFor<AshikhminShirley>(),
         infoFor<Lambert>(),
