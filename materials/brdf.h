@@ -4,6 +4,7 @@
 
 #include "materials/ashikhmin_shirley.h"
 #include "materials/cook_torrance.h"
+#include "materials/he_torrance.h"
 #include "materials/lafortune.h"
 #include "materials/lambert.h"
 #include "materials/phong.h"
@@ -17,7 +18,7 @@
 namespace lobe {
 
 using Brdf = std::variant<Lambert, Phong, Strauss, SchlickLewis, Ward, CookTorrance, PoulinFournier,
-                          Lafortune, AshikhminShirley>;
+                          HeTorrance, Lafortune, AshikhminShirley>;
 
 // f(wi, wo) per band in sr⁻¹, without the cosine; wi and wo unit vectors in the local frame.
 inline Spectrum evalBrdf(const Brdf& brdf, const Vec3& wi, const Vec3& wo) {

@@ -27,6 +27,7 @@ const std::vector<BrdfModelInfo>& brdfModels() {
         infoFor<Ward>(),
         infoFor<CookTorrance>(),
         infoFor<PoulinFournier>(),
+        infoFor<HeTorrance>(),
         infoFor<Lafortune>(),
         infoFor<AshikhminShirley>(),
         infoFor<Lambert>(),

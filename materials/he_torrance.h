@@ -1,0 +1,53 @@
+// He–Torrance–Sillion–Greenberg: physical-optics reflection from a Gaussian random rough surface,
+// directional-diffuse term ρ_dd only (the specular delta and the uniform-diffuse term left out).
+// X. D. He, K. E. Torrance, F. X. Sillion, D. P. Greenberg, "A comprehensive physical model for
+// light reflection", SIGGRAPH 1991: the directional-diffuse term ρ_dd with its distribution D,
+// geometric factor G, shadowing S (Λ in the form of the paper's errata) and the effective
+// roughness σ(z0). The paper's text is not in this repository, so its equation numbers are not
+// quoted; the formulas below are the normative transcription.
+// Definition: shared/docs/brdf-models.md, model 7, in units of the wavelength λ (k = 2π):
+//   K(θ) = tan θ · erfc(τ / (2σ0 tan θ))
+//   z0 solves sqrt(π/2)·z0 = (σ0/4)(K(θi) + K(θo))·exp(−z0²/(2σ0²)) (by Newton)
+//   σ = σ0 / sqrt(1 + z0²/σ0²);  g = [k σ (cos θi + cos θo)]²
+//   D = (π²τ²/4) Σ_{m≥1} g^m e^{−g} / (m!·m) · exp(−k²(H·t² + H·b²) τ² / (4m))
+//   G = (|H|² / H·n)²;  S = S(θi) S(θo), S(θ) = [1 − ½ erfc(c)] / [Λ(c) + 1], c = τ cot θ / (2σ0),
+//   Λ(c) = ½ [e^{−c²}/(√π c) − erfc(c)]
+//   f = ks · F(wi·h) · S · G · D / (π cos θi cos θo), F the exact complex Fresnel term.
+// Parameters: ks ∈ [0, 1]; sigma0_over_lambda ∈ [0.01, 100] RMS surface height σ0/λ;
+// tau_over_lambda ∈ [0.01, 1000] autocorrelation length τ/λ; eta ∈ [0.01, 10] and kappa ∈ [0, 20],
+// the complex index of refraction. Every parameter may differ per band.
+#pragma once
+
+#include "materials/brdf_common.h"
+#include "materials/param_table.h"
+
+namespace lobe {
+
+struct HeTorrance {
+    static constexpr const char* kName = "he_torrance";
+    static constexpr const char* kTitle = "He-Torrance";
+    static constexpr const char* kCitation =
+        "X. D. He, K. E. Torrance, F. X. Sillion, D. P. Greenberg, A comprehensive physical model "
+        "for light reflection, SIGGRAPH 1991";
+    static const ParamTable& paramTable();
+    static HeTorrance fromParams(const ParamValues& p);
+    Spectrum eval(const Vec3& wi, const Vec3& wo) const;
+
+    Spectrum ks{0.8};
+    Spectrum sigma0{1.0};  // sigma0_over_lambda
+    Spectrum tau{10.0};    // tau_over_lambda
+    Spectrum eta{1.6};
+    Spectrum kappa{0.2};
+
+    // The pieces of the definition, public so that tests can check each one (lengths in λ).
+    // K(θ) for cos θ = cosTheta.
+    static double effectiveRoughnessK(double cosTheta, double sigma0, double tau);
+    // z0 ≥ 0 solving sqrt(π/2)·z0 = (σ0/4)·kSum·exp(−z0²/(2σ0²)), kSum = K(θi) + K(θo).
+    static double solveZ0(double sigma0, double kSum);
+    // D for given g and vxy2 = k²(H·t² + H·b²).
+    static double distributionD(double g, double vxy2, double tau);
+    // S(θ) for cos θ = cosTheta.
+    static double shadowingS(double cosTheta, double sigma0, double tau);
+};
+
+}  // namespace lobe
