@@ -1,0 +1,90 @@
+// Surfaces that Embree intersects, and the scene that owns them.
+//
+// SurfaceGeometry is the small interface every surface method satisfies (the meshed iso-surface,
+// the exact iso-surface, later implicit primitives): it creates its Embree geometry, and turns an
+// Embree hit into shading information (refined distance, world position, unit shading normal).
+//
+// SurfaceScene owns the Embree device and scene and answers single-ray queries in double
+// precision: intersect(ray) returns the first hit with t ∈ [ray.tMin, ray.tMax]; callers that need
+// every hit in depth order (volume compositing) call it again with tMin just beyond the last hit,
+// or use allHits(). Queries are thread-safe once commit() has run.
+//
+// Precision. Embree's rays are float; user geometries (the exact iso-surface) receive the
+// caller's double ray through RayContext and report their double hit distance back through it,
+// so exact hits keep ~1e-10-voxel accuracy independent of float rounding of the origin. Built-in
+// Embree geometries (the quad mesh) are intersected in float.
+//
+// Normal convention (all methods): the shading normal is unit length and points out of the region
+// where the value is above the iso value, i.e. along −∇f (for a CT skull at iso 0.5 it points from
+// bone into air). It is NOT flipped towards the viewer; callers flip it for two-sided shading.
+#pragma once
+
+#include "core/math.h"
+#include "core/ray.h"
+#include "surface/embree_device.h"
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace lobe {
+
+struct SurfaceHit {
+    double t = 0.0;
+    Vec3 position{0.0};      // world space, ray.at(t)
+    Vec3 normal{0, 0, 1};    // unit, world space, see "Normal convention"
+    int objectId = -1;       // index returned by SurfaceScene::add
+    unsigned primId = 0;     // the Embree primitive (quad or brick)
+};
+
+// Passed to rtcIntersect1/rtcOccluded1 in place of a plain RTCIntersectContext (it starts with
+// one, the classic Embree 3 way of handing user data to geometry callbacks). User geometries read
+// the double ray and record their double hit distance.
+struct RayContext {
+    RTCIntersectContext base;
+    const Ray* ray = nullptr;  // the caller's ray in double precision
+    double tHit = 0.0;         // double distance of the last accepted user-geometry hit
+    unsigned geomId = RTC_INVALID_GEOMETRY_ID;
+    unsigned primId = RTC_INVALID_GEOMETRY_ID;
+};
+
+class SurfaceGeometry {
+public:
+    virtual ~SurfaceGeometry() = default;
+    // A new, uncommitted Embree geometry (the scene commits, attaches and releases it). The
+    // geometry's callbacks may keep `this` as user data: the scene keeps the object alive.
+    virtual RTCGeometry createGeometry(RTCDevice device) const = 0;
+    // Shading for a hit at distance t on primitive primId. Never returns a non-finite normal.
+    virtual SurfaceHit shade(const Ray& ray, double t, unsigned primId) const = 0;
+};
+
+class SurfaceScene {
+public:
+    explicit SurfaceScene(const std::string& embreeConfig = "");
+
+    // Adds an object; returns its object ID (0, 1, … in order of adding). Call commit() after the
+    // last add and before the first query.
+    int add(std::shared_ptr<const SurfaceGeometry> geometry);
+    void commit();
+
+    std::optional<SurfaceHit> intersect(const Ray& ray) const;
+    bool occluded(const Ray& ray) const;
+    // Every hit along the ray in depth order, at most maxHits: repeated intersect() with tMin
+    // moved epsilon (world units, relative to 1 + t) beyond the last hit.
+    std::vector<SurfaceHit> allHits(const Ray& ray, int maxHits = 64, double epsilon = 1e-6) const;
+
+    const SurfaceGeometry& object(int id) const { return *objects_.at(id); }
+    int objectCount() const { return static_cast<int>(objects_.size()); }
+
+private:
+    EmbreeDevice device_;
+    EmbreeScene scene_;
+    std::vector<std::shared_ptr<const SurfaceGeometry>> objects_;
+    std::vector<int> objectOfGeom_;  // Embree geometry ID → object ID
+    bool committed_ = false;
+};
+
+// Float copies of a double ray for Embree. tMax = ∞ stays ∞.
+void fillEmbreeRay(const Ray& ray, RTCRay& out);
+
+}  // namespace lobe
