@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "lobe 0.1.0");
     lobe::registerBrdfCommand(app);
     lobe::registerGalleryCommands(app);
+    lobe::registerRenderCommand(app);
     lobe::registerOverlapCommand(app);
     lobe::registerInfoCommand(app);
     lobe::registerConvertCommand(app);

@@ -33,7 +33,9 @@ void forEachTile(int width, int height, const SchedulerOptions& options,
         for (int x = 0; x < width; x += size)
             tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
 
-    ProgressReporter progress(options.label, int64_t(width) * height, options.progress);
+    ProgressReporter own(options.label, int64_t(width) * height,
+                         options.progress && !options.sharedProgress);
+    ProgressReporter& progress = options.sharedProgress ? *options.sharedProgress : own;
     runWithThreads(options.threads, [&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1),
                           [&](const tbb::blocked_range<size_t>& range) {
@@ -46,7 +48,7 @@ void forEachTile(int width, int height, const SchedulerOptions& options,
                               }
                           });
     });
-    progress.finish();
+    own.finish();
 }
 
 }  // namespace lobe

@@ -8,6 +8,8 @@
 
 namespace lobe {
 
+class ProgressReporter;
+
 struct Tile {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixel range [x0,x1) × [y0,y1)
 };
@@ -17,6 +19,9 @@ struct SchedulerOptions {
     int tileSize = 32;    // pixels per tile side
     bool progress = true; // show a progress display on stderr
     std::string label = "render";
+    // When set, pixels are reported to this reporter (one display over a batch of renders)
+    // instead of a reporter of the scheduler's own.
+    ProgressReporter* sharedProgress = nullptr;
 };
 
 // Calls renderTile once for every tile, in parallel. An exception thrown by renderTile stops the

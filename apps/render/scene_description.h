@@ -24,6 +24,7 @@ struct VolumeSourceSpec {
     std::string endian = "little";               // raw files only
     std::array<double, 3> spacing{1.0, 1.0, 1.0};  // raw files only
     double divideBy = 1.0;                       // value ↦ value / divideBy (CThead: 3272)
+    double background = 0.0;                     // file units: voxels ≤ this are inactive
     double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
 };
 
@@ -65,6 +66,8 @@ struct BackdropSpec {
 
 struct SceneSpec {
     std::string path;  // the scene file
+    std::string title;  // caption for contact sheets (default: the file's name)
+    std::string group;  // contact sheets collect the scenes of one group
     int width = 1024;
     int height = 1024;
     int samplesPerPixel = 8;

@@ -162,6 +162,7 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
     }
     s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
     s.blurFwhmMm = r.number("blur_fwhm_mm", 0.0, 0.0, 100.0);
+    s.background = r.number("background", 0.0, -1e12, 1e12);
     r.finish();
     return s;
 }
@@ -307,6 +308,8 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     SceneSpec scene;
     scene.path = name;
     Reader r(root, "", name);
+    scene.title = r.string("title", fs::path(name).stem().string());
+    scene.group = r.string("group", "");
     if (r.has("image")) {
         Reader img = r.child("image");
         scene.width = img.integer("width", scene.width, 1, 16384);
