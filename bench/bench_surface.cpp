@@ -15,6 +15,8 @@
 // Mrays/s (primary rays per second of wall time on 2 threads), hitFraction. The exact method's
 // error falls with spp (pixel integration only); the mesh method's error levels off at its bias.
 //
+// LOBE_BENCH_SURFACE_PGM=<folder> also writes each image as a PGM for a look.
+//
 // Checks before any time is reported: the reference is finite, hits between 10 % and 90 % of the
 // pixels; each image is finite and its hit fraction is within 2 % of the reference's.
 #include <benchmark/benchmark.h>
@@ -25,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -135,6 +138,16 @@ bool finite(const Image& img) {
     return true;
 }
 
+void writePgm(const Image& img, const std::string& name) {
+    const char* dir = std::getenv("LOBE_BENCH_SURFACE_PGM");
+    if (!dir) return;
+    FILE* f = std::fopen((std::string(dir) + "/" + name + ".pgm").c_str(), "wb");
+    if (!f) return;
+    std::fprintf(f, "P5\n%d %d\n255\n", kSize, kSize);
+    for (double p : img.pixels) std::fputc(int(std::lround(255.0 * std::min(1.0, std::max(0.0, p)))), f);
+    std::fclose(f);
+}
+
 const Image& reference() {
     static const Image ref = [] {
         Image r = render(*setup().exact, kReferenceStrata);
@@ -145,6 +158,7 @@ const Image& reference() {
         std::printf("reference: exact, %d spp, %.2f s, %.2f Mrays/s, hit fraction %.3f\n",
                     kReferenceStrata * kReferenceStrata, r.seconds, r.rays * 1e-6 / r.seconds,
                     r.hitFraction);
+        writePgm(r, "surface_reference");
         return r;
     }();
     return ref;
@@ -180,6 +194,8 @@ void benchSurface(benchmark::State& state) {
     state.counters["Mrays/s"] = rays * 1e-6 / total;
     state.counters["hitFraction"] = img.hitFraction;
     state.counters["spp"] = strata * strata;
+    writePgm(img, std::string(exact ? "surface_exact_" : "surface_mesh_") +
+                      std::to_string(strata * strata));
 }
 
 }  // namespace
