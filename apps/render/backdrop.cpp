@@ -76,14 +76,15 @@ Spectrum Backdrop::radiance(const Vec3& p, const std::vector<PointLight>& lights
     const double scale = resolution_ / (2.0 * halfExtent_);
     const Spectrum colour = textureAt((d.dot(right_) + halfExtent_) * scale,
                                       (halfExtent_ - d.dot(up_)) * scale);
-    Spectrum light(settings_.ambient);
+    Spectrum light;
     for (const PointLight& l : lights) {
         const Vec3 toLight = l.position - p;
         const double d2 = toLight.length2();
+        if (!(d2 > 0.0)) continue;
         const double cosine = std::max(0.0, normal_.dot(toLight) / std::sqrt(d2));
-        light += l.intensity * (settings_.diffuse * cosine / d2);
+        light += l.intensity * ((settings_.ambient + settings_.diffuse * cosine) / d2);
     }
-    return colour * light;
+    return colour * light * kInvPi;
 }
 
 }  // namespace lobe

@@ -7,7 +7,10 @@
 // along the view direction. Texture: cells × cells uniform random colours (core/rng.h, seeded),
 // Gaussian-blurred (σ = blur cells), looked up bilinearly in plane coordinates, so it is anchored
 // in the world and a close-up (crop window) shows the same backdrop magnified.
-// Radiance = colour · (ambient + diffuse · Σ_lights max(0, n·l) · I/d²).
+// Radiance = colour/π · (ambient · Σ_lights I/d² + diffuse · Σ_lights max(0, n·l) · I/d²): the
+// paper's classic ambient + diffuse terms in the objects' units (their Lambertian term is kd/π,
+// materials/material.h), with the ambient light scaled by the lights' irradiance so that the
+// backdrop keeps the paper's brightness relative to the objects whatever the light intensities.
 #pragma once
 
 #include "core/light.h"

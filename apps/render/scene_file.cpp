@@ -215,10 +215,16 @@ void readBrdf(Reader r, ObjectSpec& object) {
 }
 
 // Either {"points": [{value, opacity, color}, ...]} or one of the paper's presets:
-// {"preset": "density_map", "index": 0..3, "ramp_width": w} or
+// {"preset": "density_map", "index": 0..3, "ramp_width": w},
+// {"preset": "density_maps", "ramp_width": w} (all four maps in one object) or
 // {"preset": "cortex", "boundary": b, "width": w, "color": [..]} (volume/transfer_function.h).
 TransferFunction readTransfer(Reader r) {
-    const std::string preset = r.string("preset", "", {"density_map", "cortex"});
+    const std::string preset = r.string("preset", "", {"density_map", "density_maps", "cortex"});
+    if (preset == "density_maps") {
+        const double ramp = r.number("ramp_width", 0.02, 1e-6, 0.049);
+        r.finish();
+        return TransferFunction::densityMaps(ramp);
+    }
     if (preset == "density_map") {
         const int index = r.integer("index", 0, 0, 3);
         const double ramp = r.number("ramp_width", 0.02, 1e-6, 0.049);

@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+"""Writes the scene files of the paper's 24 renderings (Koldenhof 2003, Tables 2-5) and a zoomed
+close-up of each into assets/scenes/paper/ and assets/scenes/paper-zoom/.
+
+The mapping of the paper's scene onto our data is shared/docs/paper-scene.md ("A placement that
+works"): world = CThead voxel index x spacing (1, 1, 2); MNI millimetres map into it by
+diag(0.87, -0.87, -0.87) . mni + (102, 127.6, 85). The camera sits 560 units from the skull's
+centre (110, 131, 116) at 45 degrees azimuth from straight-front (front = -y), up = -z, with a 30
+degree vertical field of view; four point lights sit at the camera +-60 units along its right and
+up axes ("four omni lights ... behind the camera in each corner").
+
+Run from the repository root:  python3 scripts/make_paper_scenes.py
+"""
+import json
+import math
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# Tables 2-5: (CThead, cortex, density maps) per rendering.
+A = [("ward", "ashikhmin_shirley", "he_torrance"), ("ward", "he_torrance", "ashikhmin_shirley"),
+     ("ashikhmin_shirley", "ward", "he_torrance"), ("ashikhmin_shirley", "he_torrance", "ward"),
+     ("he_torrance", "ward", "ashikhmin_shirley"), ("he_torrance", "ashikhmin_shirley", "ward")]
+B = [("cook_torrance", "schlick_lewis", "phong"), ("cook_torrance", "phong", "schlick_lewis"),
+     ("schlick_lewis", "cook_torrance", "phong"), ("schlick_lewis", "phong", "cook_torrance"),
+     ("phong", "schlick_lewis", "cook_torrance"), ("phong", "cook_torrance", "schlick_lewis")]
+C = [(m, m, m) for m in ("ward", "ashikhmin_shirley", "he_torrance", "cook_torrance",
+                         "schlick_lewis", "phong")]
+D = [("ward", "schlick_lewis", "phong"), ("ward", "phong", "schlick_lewis"),
+     ("schlick_lewis", "ward", "phong"), ("schlick_lewis", "phong", "ward"),
+     ("phong", "ward", "schlick_lewis"), ("phong", "schlick_lewis", "ward")]
+RENDERINGS = [("A", c) for c in A] + [("B", c) for c in B] + [("C", c) for c in C] + \
+             [("D", c) for c in D]
+
+SHORT = {"ward": "Ward", "ashikhmin_shirley": "Ashikhmin", "he_torrance": "He-Torrance",
+         "cook_torrance": "Cook-Torrance", "schlick_lewis": "Schlick-Lewis", "phong": "Phong"}
+
+CENTRE = (110.0, 131.0, 116.0)
+DISTANCE = 560.0
+AZIMUTH = math.radians(45.0)
+UP = (0.0, 0.0, -1.0)
+MNI_TO_WORLD = {"scale": [0.87, -0.87, -0.87], "translate": [102.0, 127.6, 85.0]}
+LIGHT_INTENSITY = 3.0e5  # irradiance ~1 at the head, 560 units away (I/d^2 = 0.96)
+
+
+def sub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def unit(a):
+    n = math.sqrt(sum(x * x for x in a))
+    return tuple(x / n for x in a)
+
+
+def camera():
+    position = (CENTRE[0] + DISTANCE * math.sin(AZIMUTH), CENTRE[1] - DISTANCE * math.cos(AZIMUTH),
+                CENTRE[2])
+    forward = unit(sub(CENTRE, position))
+    right = unit(cross(forward, UP))
+    up = cross(right, forward)
+    lights = []
+    for sr in (-1, 1):
+        for su in (-1, 1):
+            p = [position[i] + 60.0 * sr * right[i] + 60.0 * su * up[i] for i in range(3)]
+            lights.append({"position": [round(x, 3) for x in p], "intensity": LIGHT_INTENSITY})
+    return [round(x, 3) for x in position], lights
+
+
+def brdf(model):
+    return {"model": model}
+
+
+def scene(number, group, combo, zoom):
+    skull, cortex, density = combo
+    position, lights = camera()
+    cam = {"position": position, "target": list(CENTRE), "up": list(UP), "fov_deg": 30}
+    if zoom:
+        # The density maps' region, magnified 2.5x: a crop window of the same view (so the
+        # backdrop and lighting are those of the full image).
+        cam["crop"] = ZOOM_CROP
+    objects = [{
+        "name": "skull", "kind": "isosurface",
+        "source": {"path": "../../cthead/cthead.nhdr", "divide_by": 3272, "background": 100},
+        "iso": 0.5, "method": "exact", "opacity": SKULL_OPACITY, "brdf": brdf(skull), "kd": 0.2,
+        "tangent_axis": [0, 0, 1]}, {
+        "name": "cortex", "kind": "volume",
+        "source": {"path": "../../brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
+                   "divide_by": 255},
+        "transform": MNI_TO_WORLD, "transfer_function": CORTEX_TF,
+        "reconstruction": "bspline", "gradient": "bspline", "brdf": brdf(cortex), "kd": 0.2,
+        "tangent_axis": [0, 0, 1]}]
+    # The four density maps (iso 0.70 / 0.75 / 0.80 / 0.85, opacity 0.3-0.6, blue / green /
+    # yellow / red) share one BRDF in every rendering of the paper, so they are one object with
+    # the four ramps in one transfer function: the same image as four objects, with the grid
+    # reconstructed once per sample instead of four times.
+    objects.append({
+        "name": "density maps", "kind": "volume",
+        "source": {"path": "../../brain/grey_icbm151_smooth8mm_FieldMap.nii.gz"},
+        "transform": MNI_TO_WORLD,
+        "transfer_function": {"preset": "density_maps"},
+        "reconstruction": "trilinear", "gradient": "central", "brdf": brdf(density), "kd": 0.2,
+        "tangent_axis": [0, 0, 1]})
+    title = "%d%s: %s / %s / %s" % (number, " zoom" if zoom else "", SHORT[skull], SHORT[cortex],
+                                    SHORT[density])
+    return {
+        "title": title, "group": group + ("-zoom" if zoom else ""),
+        "image": {"width": 1024, "height": 1024, "samples_per_pixel": 8, "seed": 1,
+                  "exposure": EXPOSURE},
+        "camera": cam, "lights": lights,
+        "backdrop": {"seed": 7, "ambient": 0.2, "diffuse": 0.3},
+        "volume": {"step_voxels": STEP_VOXELS},
+        "objects": objects}
+
+
+SKULL_OPACITY = 0.15
+EXPOSURE = 2.0
+STEP_VOXELS = 0.25
+ZOOM_CROP = [0.30, 0.22, 0.70, 0.62]
+# The cortex as a translucent shell at the T1 boundary between CSF (~0.30) and grey matter
+# (~0.65), 0.47 of the maximum: opacity 0.001 at the edges of the ramp rising to 0.2 at the
+# boundary and falling back, so the tissue inside stays clear and the density maps show through.
+CORTEX_TF = {"points": [
+    {"value": 0.40, "opacity": 0.0, "color": [0.85, 0.72, 0.62]},
+    {"value": 0.40, "opacity": 0.001, "color": [0.85, 0.72, 0.62]},
+    {"value": 0.47, "opacity": 0.2, "color": [0.85, 0.72, 0.62]},
+    {"value": 0.54, "opacity": 0.001, "color": [0.85, 0.72, 0.62]},
+    {"value": 0.54, "opacity": 0.0, "color": [0.85, 0.72, 0.62]}]}
+
+
+def main():
+    for folder, zoom in (("paper", False), ("paper-zoom", True)):
+        out = os.path.join(ROOT, "assets", "scenes", folder)
+        os.makedirs(out, exist_ok=True)
+        for number, (group, combo) in enumerate(RENDERINGS, start=1):
+            name = "rendering-%02d%s.json" % (number, "-zoom" if zoom else "")
+            with open(os.path.join(out, name), "w") as f:
+                json.dump(scene(number, group, combo, zoom), f, indent=1)
+                f.write("\n")
+    print("wrote 48 scenes")
+
+
+if __name__ == "__main__":
+    main()
