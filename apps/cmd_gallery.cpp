@@ -1,5 +1,4 @@
-// `lobe gallery` renders the BRDF gallery; `lobe demo` renders the default scene to out/ (the
-// README's first command).
+// `lobe gallery` renders the BRDF gallery (the nine models on spheres).
 #include "apps/commands.h"
 #include "apps/gallery.h"
 #include "core/error.h"
@@ -52,12 +51,6 @@ void registerGalleryCommands(CLI::App& app) {
         "gallery", "Render the nine BRDFs side by side on spheres (the paper's Figure 3)");
     addGalleryOptions(sub, gallery);
     sub->callback([] { runGallery(gallery); });
-
-    static GalleryCommand demo;
-    CLI::App* demoSub = app.add_subcommand(
-        "demo", "Render the default scene into --out (EXR and PNG): today the BRDF gallery");
-    addGalleryOptions(demoSub, demo);
-    demoSub->callback([] { runGallery(demo); });
 }
 
 }  // namespace lobe

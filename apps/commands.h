@@ -11,6 +11,7 @@ namespace lobe {
 void registerBrdfCommand(CLI::App& app);
 void registerGalleryCommands(CLI::App& app);
 void registerRenderCommand(CLI::App& app);
+void registerDemoCommand(CLI::App& app);
 void registerOverlapCommand(CLI::App& app);
 void registerInfoCommand(CLI::App& app);
 void registerConvertCommand(CLI::App& app);

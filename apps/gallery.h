@@ -13,8 +13,8 @@
 namespace lobe {
 
 struct GalleryOptions {
-    int cellSize = 320;       // pixels per sphere cell (square)
-    int samplesPerPixel = 16; // jittered
+    int cellSize = 256;       // pixels per sphere cell (square)
+    int samplesPerPixel = 4;  // jittered
     int threads = 0;
     uint64_t seed = 1;
     double lightIntensity = 12.0;

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     lobe::registerBrdfCommand(app);
     lobe::registerGalleryCommands(app);
     lobe::registerRenderCommand(app);
+    lobe::registerDemoCommand(app);
     lobe::registerOverlapCommand(app);
     lobe::registerInfoCommand(app);
     lobe::registerConvertCommand(app);

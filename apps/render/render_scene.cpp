@@ -264,6 +264,21 @@ Spectrum RenderScene::trace(const Ray& ray, double jitter, ThreadState& st,
     return radiance;
 }
 
+Spectrum RenderScene::pixel(int x, int y, ThreadState& st, RenderStats& counters) const {
+    const int spp = spec_.samplesPerPixel;
+    const StrataGrid strata = strataFor(spp);
+    Spectrum sum;
+    for (int s = 0; s < spp; ++s) {
+        Rng rng = pixelSampleRng(spec_.seed, x, y, s);
+        const Vec2 j = jitteredSample(strata, s, rng);
+        const Ray ray = camera_.generateRay((x + j.x) / spec_.width, (y + j.y) / spec_.height);
+        sum += trace(ray, rng.uniform(), st, counters);
+    }
+    Spectrum value = sum * (1.0 / spp);
+    if (!value.isFinite()) value = Spectrum(0.0);  // never NaN into an image
+    return value;
+}
+
 Spectrum RenderScene::traceRay(const Ray& ray, double jitter) const {
     ThreadState st;
     for (const VolumeObject& vo : volumeObjects_) st.samplers.emplace_back(*vo.volume);
@@ -271,6 +286,15 @@ Spectrum RenderScene::traceRay(const Ray& ray, double jitter) const {
     st.hasPending.resize(volumeObjects_.size());
     RenderStats stats;
     return trace(ray, jitter, st, stats);
+}
+
+Spectrum RenderScene::renderPixel(int x, int y) const {
+    ThreadState st;
+    for (const VolumeObject& vo : volumeObjects_) st.samplers.emplace_back(*vo.volume);
+    st.pending.resize(volumeObjects_.size());
+    st.hasPending.resize(volumeObjects_.size());
+    RenderStats stats;
+    return pixel(x, y, st, stats);
 }
 
 Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) const {
@@ -284,8 +308,6 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) co
         return st;
     });
     tbb::enumerable_thread_specific<RenderStats> stats;
-    const int spp = spec_.samplesPerPixel;
-    const StrataGrid strata = strataFor(spp);
 
     SchedulerOptions scheduler;
     scheduler.threads = options.threads;
@@ -297,19 +319,7 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) co
         ThreadState& st = states.local();
         RenderStats& counters = stats.local();
         for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) {
-                Spectrum sum;
-                for (int s = 0; s < spp; ++s) {
-                    Rng rng = pixelSampleRng(spec_.seed, x, y, s);
-                    const Vec2 j = jitteredSample(strata, s, rng);
-                    const Ray ray = camera_.generateRay((x + j.x) / film.width(),
-                                                        (y + j.y) / film.height());
-                    sum += trace(ray, rng.uniform(), st, counters);
-                }
-                Spectrum value = sum * (1.0 / spp);
-                if (!value.isFinite()) value = Spectrum(0.0);  // never NaN into an image
-                film.at(x, y) = value;
-            }
+            for (int x = tile.x0; x < tile.x1; ++x) film.at(x, y) = pixel(x, y, st, counters);
     });
     if (statsOut) {
         *statsOut = RenderStats();

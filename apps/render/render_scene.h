@@ -56,14 +56,18 @@ public:
     const SceneSpec& spec() const { return spec_; }
     // Renders at the spec's size, samples and seed.
     Film render(const RenderOptions& options, RenderStats* stats = nullptr) const;
-    // Radiance along one ray; `rng` supplies the volume jitter. For tests.
+    // Radiance along one ray; `jitter` ∈ [0,1) places the volumes' sample lattices. For tests.
     Spectrum traceRay(const Ray& ray, double jitter) const;
+    // The value render() gives pixel (x, y): the mean over the spec's jittered samples. For
+    // benchmarks that compare a subset of pixels against a reference.
+    Spectrum renderPixel(int x, int y) const;
 
 private:
     struct SurfaceObject;
     struct VolumeObject;
     struct ThreadState;
     Spectrum trace(const Ray& ray, double jitter, ThreadState& state, RenderStats& stats) const;
+    Spectrum pixel(int x, int y, ThreadState& state, RenderStats& stats) const;
 
     SceneSpec spec_;
     PinholeCamera camera_;
