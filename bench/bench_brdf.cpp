@@ -52,9 +52,13 @@ const std::vector<Pair>& pairs() {
     return set;
 }
 
-// tests/materials/reference_values.py, first case of each model (band 700 nm; defaults).
+// tests/materials/reference_values.py, first case of each model (band 700 nm; defaults);
+// he_torrance from the independent Python implementation pasted in test_he_torrance.cpp,
+// poulin_fournier from the Python brute-force profile integration in test_poulin_fournier.cpp
+// (accurate to ~1e-5 because of its shadow edges, hence its looser tolerance below).
 const std::map<std::string, double>& referenceValues() {
     static const std::map<std::string, double> values = {
+        {"he_torrance", 0.1305645380548555},   {"poulin_fournier", 0.18405284},
         {"phong", 0.7616790509105564},         {"strauss", 0.20180457619639322},
         {"schlick_lewis", 1.456230535546167},  {"ward", 0.13008838629709385},
         {"cook_torrance", 0.5699460886829282}, {"lafortune", 0.43863573566364245},
@@ -70,7 +74,8 @@ std::string checkModel(const std::string& name, const Brdf& brdf) {
         const Vec3 wi(0.49240387650610395, 0.08682408883346515, 0.8660254037844387);
         const Vec3 wo(-0.5713938048432696, -0.04999048033273017, 0.8191520442889918);
         const double f = evalBrdf(brdf, wi, wo)[0];
-        if (!(std::abs(f - it->second) <= 1e-9 * it->second))
+        const double tolerance = name == "poulin_fournier" ? 1e-4 : 1e-9;
+        if (!(std::abs(f - it->second) <= tolerance * it->second))
             return "value " + std::to_string(f) + " differs from the reference " +
                    std::to_string(it->second);
     }
