@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the scene files of the paper's 24 renderings (Koldenhof 2003, Tables 2-5) and a zoomed
-close-up of each into assets/scenes/paper/ and assets/scenes/paper-zoom/.
+close-up of each into assets/scenes/paper/ and assets/scenes/paper-zoom/, and the skull alone with
+each of the nine specular BRDFs (the scene of the paper's Table 7) into assets/scenes/skull/.
 
 The mapping of the paper's scene onto our data is shared/docs/paper-scene.md ("A placement that
 works"): world = CThead voxel index x spacing (1, 1, 2); MNI millimetres map into it by
@@ -131,7 +132,37 @@ CORTEX_TF = {"points": [
     {"value": 0.54, "opacity": 0.0, "color": [0.85, 0.72, 0.62]}]}
 
 
+SPECULAR = ["phong", "strauss", "schlick_lewis", "ward", "cook_torrance", "poulin_fournier",
+            "he_torrance", "lafortune", "ashikhmin_shirley"]
+
+
+def skull_scene(model):
+    """The CThead skull alone, opaque, with one BRDF plus Lambert kd 0.2. Tangent field: the
+    head's long axis (object z, vertex to neck) projected onto the surface, world x where the
+    surface is perpendicular to it (the top of the skull), so anisotropic highlights run around
+    the head like lines of latitude."""
+    position, lights = camera()
+    return {
+        "title": model, "group": "skull",
+        "image": {"width": 1024, "height": 1024, "samples_per_pixel": 8, "seed": 1,
+                  "exposure": EXPOSURE},
+        "camera": {"position": position, "target": list(CENTRE), "up": list(UP), "fov_deg": 30},
+        "lights": lights,
+        "backdrop": {"seed": 7, "ambient": 0.2, "diffuse": 0.3},
+        "objects": [{
+            "name": "skull", "kind": "isosurface",
+            "source": {"path": "../../cthead/cthead.nhdr", "divide_by": 3272, "background": 100},
+            "iso": 0.5, "method": "exact", "opacity": 1.0, "brdf": brdf(model), "kd": 0.2,
+            "tangent_axis": [0, 0, 1]}]}
+
+
 def main():
+    out = os.path.join(ROOT, "assets", "scenes", "skull")
+    os.makedirs(out, exist_ok=True)
+    for model in SPECULAR:
+        with open(os.path.join(out, "skull-%s.json" % model), "w") as f:
+            json.dump(skull_scene(model), f, indent=1)
+            f.write("\n")
     for folder, zoom in (("paper", False), ("paper-zoom", True)):
         out = os.path.join(ROOT, "assets", "scenes", folder)
         os.makedirs(out, exist_ok=True)
@@ -140,7 +171,7 @@ def main():
             with open(os.path.join(out, name), "w") as f:
                 json.dump(scene(number, group, combo, zoom), f, indent=1)
                 f.write("\n")
-    print("wrote 48 scenes")
+    print("wrote 57 scenes")
 
 
 if __name__ == "__main__":
