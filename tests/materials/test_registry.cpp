@@ -1,7 +1,12 @@
+// The model registry: every model by name in the paper's order, clear errors for unknown models,
+// parameters and out-of-range values, per-band parsing, and the normative defaults.
 #include "core/error.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -11,6 +16,22 @@ TEST(Registry, KnowsEveryModelByName) {
         const Brdf brdf = model.create(ParamValues(*model.params));
         EXPECT_EQ(std::string(brdfName(brdf)), model.name);
     }
+}
+
+// shared/docs/brdf-models.md, "The models": the nine specular models numbered 1-9 as in the
+// paper (Koldenhof 2003, Table 1 numbering), then the Lambertian term the renderer adds; the CLI,
+// `lobe brdf props` and the flux-overlap ranking all iterate this list, so its content and order
+// are part of the interface.
+TEST(Registry, HoldsTheNineSpecularModelsInThePapersOrderThenLambert) {
+    const std::vector<std::string> nine = {"phong",           "strauss",     "schlick_lewis",
+                                           "ward",            "cook_torrance", "poulin_fournier",
+                                           "he_torrance",     "lafortune",   "ashikhmin_shirley"};
+    std::vector<std::string> registered;
+    for (const BrdfModelInfo& model : brdfModels()) registered.push_back(model.name);
+    std::vector<std::string> expected = nine;
+    expected.push_back("lambert");
+    EXPECT_EQ(registered, expected);
+    EXPECT_EQ(specularModelNames(), nine);
 }
 
 TEST(Registry, UnknownModelIsAClearError) {
