@@ -160,6 +160,7 @@ RenderScene::RenderScene(const SceneSpec& spec, bool progress) : spec_(spec) {
             settings.gradient = object.gradient == "bspline" ? GradientMethod::kBSplineDerivative
                                                              : GradientMethod::kCentralDifferences;
             settings.stepVoxels = spec_.volumeStepVoxels;
+            settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
             VolumeObject vo;
             vo.spec = &object;
             vo.volume = std::make_unique<DvrVolume>(grid, object.transfer, settings, context);
@@ -328,6 +329,11 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) co
             statsOut->surfaceHits += s.surfaceHits;
             statsOut->volumeSamples += s.volumeSamples;
         }
+        for (const ThreadState& st : states)
+            for (const VolumeRaySampler& sampler : st.samplers) {
+                statsOut->volumeEvaluated += sampler.samplesEvaluated();
+                statsOut->volumeSkipped += sampler.samplesSkipped();
+            }
         statsOut->seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }

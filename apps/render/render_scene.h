@@ -42,6 +42,10 @@ struct RenderStats {
     long long rays = 0;
     long long surfaceHits = 0;
     long long volumeSamples = 0;  // samples composited (non-zero opacity)
+    // render() only: lattice points reconstructed, and jumped over by empty-space skipping
+    // (VolumeRaySampler counters, summed over threads and volumes).
+    long long volumeEvaluated = 0;
+    long long volumeSkipped = 0;
 };
 
 class RenderScene {

@@ -82,6 +82,7 @@ struct SceneSpec {
     BackdropSpec backdrop;
     double volumeStepVoxels = 0.05;
     double terminationTransmittance = 1e-3;
+    bool emptySpaceSkipping = true;  // volume_marcher.h; off only to time it (same image)
     std::vector<ObjectSpec> objects;
 };
 

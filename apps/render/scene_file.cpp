@@ -374,6 +374,7 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         Reader v = r.child("volume");
         scene.volumeStepVoxels = v.number("step_voxels", 0.05, 1e-3, 16.0);
         scene.terminationTransmittance = v.number("termination_transmittance", 1e-3, 0.0, 0.5);
+        scene.emptySpaceSkipping = v.boolean("empty_space_skipping", true);
         v.finish();
     }
     if (!r.has("objects")) r.fail("objects", "missing (an array of objects)");

@@ -3,7 +3,7 @@
 // different extinction and colour; the skull's 0.97 opacity; thread-count invariance of render().
 // (tests/render/test_hybrid.cpp covers level planes with equal-extinction slabs; these cases add
 // a tilted surface with cos θ ≠ 1, coloured surface and media, unequal extinctions in the
-// overlap and whole renders.)
+// overlap, whole renders, and the empty_space_skipping scene key.)
 //
 // Set-up shared by all cases (every length in voxels; spacing 1, so voxels = world units):
 //  - Camera ray straight down −z through (x, y) = (1.5, 1.5) from z = 200.
@@ -64,6 +64,14 @@ fs::path dataDir() {
             for (int j = 0; j < 4; ++j)
                 for (int i = 0; i < 4; ++i)
                     ramp[(k * 4 + j) * 4 + i] = float(k + kSlope * i + 1.0);  // exact in float
+        // A 24³ box of value 0.1 (stored, active, transparent under the slab's transfer
+        // function) with a 4³ block of ones at voxels 10…13: bricks to skip around the block.
+        std::vector<float> box(24 * 24 * 24, 0.1f);
+        for (int k = 10; k < 14; ++k)
+            for (int j = 10; j < 14; ++j)
+                for (int i = 10; i < 14; ++i) box[(k * 24 + j) * 24 + i] = 1.0f;
+        std::ofstream(d / "box.raw", std::ios::binary)
+            .write(reinterpret_cast<const char*>(box.data()), std::streamsize(box.size() * 4));
         std::ofstream(d / "slab.raw", std::ios::binary)
             .write(reinterpret_cast<const char*>(slab.data()), std::streamsize(slab.size() * 4));
         std::ofstream(d / "ramp.raw", std::ios::binary)
@@ -293,6 +301,46 @@ TEST(HybridCompositing, RenderIsThreadCountInvariantAndFinite) {
         for (double jitter : {0.0, 0.5, 0.999999})
             EXPECT_TRUE(scene.traceRay(ray, jitter).isFinite()) << o << " " << d;
     }
+}
+
+// "volume": {"empty_space_skipping": false} turns the bricks' skipping off (for timing it,
+// bench/bench_hybrid.cpp); the image is the same either way (volume_marcher.h: only lattice
+// points whose opacity is exactly 0 are skipped), here with a translucent plane inside the slabs.
+TEST(HybridCompositing, EmptySpaceSkippingKeyChangesNothingButTheWork) {
+    std::string box = slab(0.2, 0.4, "[0.2, 1, 0.5]", 0);
+    box.replace(box.find("slab.raw"), 8, "box.raw");
+    box.replace(box.find("[4, 4, 40]"), 10, "[24, 24, 24]");
+    box.replace(box.find("[0, 0, 0]"), 9, "[-10, -10, 5]");
+    SceneSpec on = sceneOf({box, slab(0.03, 0.5, "[1, 0.2, 0]", 25), plane(8.3, 0.6, 0.9, "[1, 0.5, 0.25]")},
+                           0.25);
+    EXPECT_TRUE(on.emptySpaceSkipping);  // the default
+    const SceneSpec off = parseScene(
+        R"({"camera": {"position": [0, 0, 1]}, "volume": {"empty_space_skipping": false},
+            "objects": []})",
+        dataDir().string(), "skip-off");
+    EXPECT_FALSE(off.emptySpaceSkipping);
+    on.cameraPosition = Vec3(60, -40, 120);
+    on.cameraTarget = Vec3(1.5, 1.5, 20);
+    on.cameraUp = Vec3(0, 0, 1);
+    on.fovDegrees = 30;
+    SceneSpec noSkip = on;
+    noSkip.emptySpaceSkipping = false;
+    RenderOptions options;
+    options.progress = false;
+    RenderStats statsOn, statsOff;
+    const Film a = RenderScene(on, false).render(options, &statsOn);
+    const Film b = RenderScene(noSkip, false).render(options, &statsOff);
+    double maxValue = 0, maxDiff = 0;
+    for (size_t i = 0; i < a.pixels().size(); ++i) {
+        maxValue = std::max(maxValue, a.pixels()[i].maxValue());
+        maxDiff = std::max(maxDiff, maxAbsDiff(a.pixels()[i], b.pixels()[i]));
+    }
+    ASSERT_GT(maxValue, 0.0);
+    EXPECT_LE(maxDiff, 1e-12 * maxValue);
+    EXPECT_EQ(statsOff.volumeSkipped, 0);
+    EXPECT_GT(statsOn.volumeSkipped, 0);  // the view has empty space around the slabs
+    EXPECT_LT(statsOn.volumeEvaluated, statsOff.volumeEvaluated);
+    EXPECT_EQ(statsOn.volumeSamples, statsOff.volumeSamples);
 }
 
 }  // namespace
