@@ -12,9 +12,6 @@
 //     off, all in this one run: full; every BRDF replaced by its Lambert term only (the BRDF
 //     evaluation's share is the difference); no volumes (the volume sampling's share); no
 //     surfaces and no volumes (what is left: camera rays, backdrop, scheduling).
-//  With --table7: the paper's Table 7 regenerated instead — 512², 8 spp, the CThead skull alone
-//  (assets/scenes/skull/skull-<model>.json), one BRDF at a time, all in one run; the BRDF's share
-//  is the render time minus that of the same skull with Lambert only, over the render time.
 // Output: a Markdown report on stdout. Checks before reporting: images finite, the scene covers
 // a plausible part of the image (not just backdrop).
 #include "apps/render/render_scene.h"
@@ -23,6 +20,7 @@
 #include "core/image_output.h"
 #include "core/tile_scheduler.h"
 
+#include <sys/resource.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -42,8 +40,16 @@ double now() {
         .count();
 }
 
+// CPU seconds of this process so far (user + system, all threads): on a shared machine the
+// render's CPU time over the thread count estimates its wall time when it has the cores alone.
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 struct Timed {
-    double build = 0.0, render = 0.0;
+    double build = 0.0, render = 0.0, renderCpu = 0.0;
     Film film;
 };
 
@@ -55,8 +61,10 @@ Timed renderTimed(const SceneSpec& spec, int threads) {
     RenderOptions options;
     options.threads = threads;
     options.progress = false;
+    const double c1 = cpuSeconds();
     t.film = scene.render(options);
     t.render = now() - t1;
+    t.renderCpu = cpuSeconds() - c1;
     t.build = t1 - t0;
     return t;
 }
@@ -77,51 +85,9 @@ double coverage(const Film& objectsOnly) {
 
 }  // namespace
 
-// The paper's Table 7 (666 MHz Pentium III, 512², CThead only), in seconds.
-const std::vector<std::pair<std::string, double>>& paperTable7() {
-    static const std::vector<std::pair<std::string, double>> t = {
-        {"ward", 57 * 60 + 42},          {"ashikhmin_shirley", 55 * 60 + 54},
-        {"he_torrance", 56 * 60 + 12},   {"cook_torrance", 56 * 60 + 12},
-        {"schlick_lewis", 55 * 60 + 1},  {"phong", 55 * 60 + 12},
-        {"strauss", 55 * 60 + 25},       {"poulin_fournier", 54 * 60 + 42},
-        {"lafortune", 56 * 60 + 7}};
-    return t;
-}
-
-int table7(int threads, int size, int spp) {
-    std::printf("# The paper's Table 7, regenerated\n\n%d², %d jittered samples per pixel, the "
-                "CThead skull alone (exact iso-surface), %d threads, one run\n\n", size, spp,
-                threads);
-    auto skull = [&](const std::string& model) {
-        SceneSpec spec = loadSceneFile(std::string(LOBE_SOURCE_DIR) +
-                                       "/assets/scenes/skull/skull-" + model + ".json");
-        spec.width = spec.height = size;
-        spec.samplesPerPixel = spp;
-        return spec;
-    };
-    SceneSpec lambertSpec = skull("ward");
-    lambertSpec.objects[0].material.specularOn = false;
-    const Timed lambert = renderTimed(lambertSpec, threads);
-    if (!finite(lambert.film)) throw Error("non-finite pixels in the Lambert-only skull");
-    std::printf("| BRDF | paper (666 MHz P-III) | Lobe | speed-up | BRDF share of the render |\n"
-                "|---|---:|---:|---:|---:|\n");
-    for (const auto& [model, paperSeconds] : paperTable7()) {
-        const Timed t = renderTimed(skull(model), threads);
-        if (!finite(t.film)) throw Error("non-finite pixels with " + model);
-        const double share = std::max(0.0, t.render - lambert.render) / t.render;
-        std::printf("| %s | %d min %02d s | %.2f s | %.0f× | %.0f %% |\n", model.c_str(),
-                    int(paperSeconds) / 60, int(paperSeconds) % 60, t.render,
-                    paperSeconds / t.render, 100.0 * share);
-    }
-    std::printf("| (Lambert only) | | %.2f s | | |\n\nBuild (load + Embree) %.2f s per scene, "
-                "not included.\n", lambert.render, lambert.build);
-    return 0;
-}
-
 int main(int argc, char** argv) {
     std::string scenePath = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper/rendering-01.json";
     int threads = 2, size = 1024, spp = 8, lattice = 32, splitSize = 256;
-    bool wantTable7 = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
@@ -131,15 +97,13 @@ int main(int argc, char** argv) {
         else if (a == "--spp") spp = std::atoi(next().c_str());
         else if (a == "--lattice") lattice = std::atoi(next().c_str());
         else if (a == "--split-size") splitSize = std::atoi(next().c_str());
-        else if (a == "--table7") wantTable7 = true;
         else {
             std::fprintf(stderr, "usage: %s [--scene F] [--threads N] [--size N] [--spp N] "
-                                 "[--lattice N] [--split-size N] [--table7]\n", argv[0]);
+                                 "[--lattice N] [--split-size N]\n", argv[0]);
             return 2;
         }
     }
     try {
-        if (wantTable7) return table7(threads, size == 1024 ? 512 : size, spp);
         SceneSpec spec = loadSceneFile(scenePath);
         spec.width = spec.height = size;
         spec.samplesPerPixel = spp;
@@ -189,11 +153,12 @@ int main(int argc, char** argv) {
 
         std::printf("| what | wall time | note |\n|---|---|---|\n");
         std::printf("| build (load volumes, Embree, bricks) | %.2f s | |\n", full.build);
-        std::printf("| render %d² × %d spp | **%.2f s** | %.1f µs per camera ray per core |\n", size,
-                    spp, full.render, full.render * threads / (double(size) * size * spp) * 1e6);
+        std::printf("| render %d² × %d spp | **%.2f s** | %.2f CPU s (%.2f s per thread); %.1f µs "
+                    "of CPU per camera ray |\n", size, spp, full.render, full.renderCpu,
+                    full.renderCpu / threads, full.renderCpu / (double(size) * size * spp) * 1e6);
         std::printf("| write EXR + PNG | %.2f s | |\n", outputSeconds);
-        std::printf("| preview 512² × 1 spp (render only / with build) | **%.2f s** / %.2f s | |\n",
-                    pre.render, pre.render + pre.build);
+        std::printf("| preview 512² × 1 spp (render only / with build) | **%.2f s** / %.2f s | "
+                    "%.2f CPU s |\n", pre.render, pre.render + pre.build, pre.renderCpu);
         std::printf("| reference (step 0.02, 64 spp) on %d×%d pixels | %.2f s | |\n\n", lattice,
                     lattice, refSeconds);
         std::printf("Error of the %d² × %d spp render against the reference on those pixels: "

@@ -310,6 +310,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         }
         throw Error(name + ": invalid JSON at line " + std::to_string(line) + ", column " +
                     std::to_string(column));
+    } catch (const Json::exception& e) {
+        // Not a syntax error but a value JSON cannot hold as a number (e.g. 1e400).
+        throw Error(name + ": invalid JSON: " + e.what());
     }
     SceneSpec scene;
     scene.path = name;

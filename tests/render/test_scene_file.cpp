@@ -141,3 +141,18 @@ TEST(SceneFile, VolumeObjectsWithPresetAndExplicitTransferFunctions) {
 }
 
 }  // namespace lobe
+
+namespace lobe {
+
+// A number JSON cannot hold (1e400 overflows a double) is bad input, not an internal error.
+TEST(SceneFile, NumberOverflowIsAnInputError) {
+    try {
+        parseScene(R"({"camera": {"fov_deg": 1e400}, "objects": []})", ".", "big.json");
+        FAIL() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("big.json: invalid JSON"), std::string::npos)
+            << e.what();
+    }
+}
+
+}  // namespace lobe
