@@ -28,15 +28,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 namespace lobe {
 namespace {
 
-// Relative accuracy of f asked by brdf-models.md (model 6); the Richardson-corrected adaptive
-// Simpson error estimate is used with half of it as a margin.
+// Relative accuracy of f asked by brdf-models.md (model 6); the arc integration is asked for half
+// of it as a margin.
 constexpr double kRelativeAccuracy = 1e-6;
-constexpr int kMaxDepth = 30;
 
 // A direction's projection onto the cross-section plane.
 struct Projected {
@@ -82,16 +80,24 @@ bool floorLit(double y, const Projected& w, double period, double depth) {
     return !(ahead(kMin * period) || ahead(kMax * period));
 }
 
+// The floor's breakpoints: the piece's ends and, per direction, ≤ 4 repeats of each of its 2
+// window edges.
+struct FloorBreaks {
+    std::array<double, 18> y;
+    int count = 0;
+    void push(double v) { y[count++] = v; }
+};
+
 // Appends the floor shadow-window edges y = kD − (d u_y ± 1)/u_z inside (start, end).
 void addFloorBreaks(const Projected& w, double period, double depth, double start, double end,
-                    std::vector<double>& breaks) {
+                    FloorBreaks& breaks) {
     for (const double sign : {-1.0, 1.0}) {
         const double offset = -(depth * w.y + sign * w.length) / w.z;
         const double first = std::ceil((start - offset) / period);
         for (int i = 0; i < 4; ++i) {  // a window edge repeats once per period: ≤ 2 in the piece
             const double y = offset + (first + i) * period;
             if (y >= end) break;
-            if (y > start) breaks.push_back(y);
+            if (y > start) breaks.push(y);
         }
     }
 }
@@ -100,16 +106,15 @@ void addFloorBreaks(const Projected& w, double period, double depth, double star
 double floorLitLength(const Projected& wi, const Projected& wo, const PoulinFournier::Profile& pr) {
     const double start = pr.floorStart, end = pr.floorEnd;
     if (!(end > start)) return 0.0;
-    std::vector<double> breaks;
-    breaks.reserve(10);
-    breaks.push_back(start);
-    breaks.push_back(end);
+    FloorBreaks breaks;
+    breaks.push(start);
+    breaks.push(end);
     addFloorBreaks(wi, pr.period, pr.depth, start, end, breaks);
     addFloorBreaks(wo, pr.period, pr.depth, start, end, breaks);
-    std::sort(breaks.begin(), breaks.end());
+    std::sort(breaks.y.begin(), breaks.y.begin() + breaks.count);
     double length = 0.0;
-    for (size_t j = 0; j + 1 < breaks.size(); ++j) {
-        const double a = breaks[j], b = breaks[j + 1];
+    for (int j = 0; j + 1 < breaks.count; ++j) {
+        const double a = breaks.y[j], b = breaks.y[j + 1];
         if (!(b > a)) continue;
         const double mid = 0.5 * (a + b);
         if (floorLit(mid, wi, pr.period, pr.depth) && floorLit(mid, wo, pr.period, pr.depth))
@@ -118,8 +123,6 @@ double floorLitLength(const Projected& wi, const Projected& wo, const PoulinFour
     return length;
 }
 
-// The arc integrand fl(N)/ks · (N·wi)(N·wo) at angle φ (brdf-models.md model 6, Phong's term with
-// normal N: rN(wi)·wo = 2(N·wi)(N·wo) − wi·wo).
 // x^n by repeated squaring: the same value as std::pow up to a few ulps, several times faster
 // for the whole exponents the model is used with (100 by default).
 double powWhole(double x, unsigned n) {
@@ -132,42 +135,218 @@ double powWhole(double x, unsigned n) {
     return result;
 }
 
-struct ArcIntegrand {
-    Vec3 wi, wo;
-    double wiDotWo = 0.0;
+// The arc integrand in θ = 2φ − (ψi + ψo). With N = (0, sin φ, cos φ), wi.y = Li sin ψi and
+// wi.z = Li cos ψi (likewise wo), N·wi = Li cos(φ − ψi), and the product-to-sum identity gives
+//   (N·wi)(N·wo) = ½[P cos θ + q],   P = Li·Lo,  q = wi.y·wo.y + wi.z·wo.z = P cos(ψi − ψo),
+//   rN(wi)·wo = 2(N·wi)(N·wo) − wi·wo = P cos θ − m,   m = wi.x·wo.x
+// (brdf-models.md model 6: Phong's term with normal N). So the integrand is
+//   g(θ) = max(0, P cos θ − m)^n · ½ max(0, P cos θ + q),   ∫ (…) dφ = ½ ∫ g dθ,
+// one cosine per evaluation, a lobe peaked at θ = 0 (mod 2π) with value (P − m)^n, and — all of
+// P, q, m, θ being symmetric in wi and wo — exactly reciprocal. On the lit-and-seen interval
+// N·wi, N·wo ≥ 0, so the second max() only removes rounding.
+struct ArcLobe {
+    double p = 0.0, q = 0.0, m = 0.0;
     double exponent = 0.0;
     bool wholeExponent = false;  // exponent is a whole number ≤ 2³¹: use powWhole
-    ArcIntegrand(const Vec3& i, const Vec3& o, double dot, double n)
-        : wi(i), wo(o), wiDotWo(dot), exponent(n),
-          wholeExponent(n == std::floor(n) && n >= 0.0 && n <= 2147483647.0) {}
+    unsigned whole = 0;
+    ArcLobe(const Vec3& wi, const Vec3& wo, double li, double lo, double n)
+        : p(li * lo), q(wi.y * wo.y + wi.z * wo.z), m(wi.x * wo.x), exponent(n),
+          wholeExponent(n == std::floor(n) && n >= 0.0 && n <= 2147483647.0),
+          whole(wholeExponent ? unsigned(n) : 0u) {}
+    double power(double u) const { return wholeExponent ? powWhole(u, whole) : std::pow(u, exponent); }
+    // g at the angle whose cosine is c.
+    double atCos(double c) const {
+        const double x = p * c;
+        const double u = x - m;
+        if (!(u > 0.0)) return exponent == 0.0 ? 0.5 * std::max(0.0, x + q) : 0.0;
+        return power(u) * 0.5 * std::max(0.0, x + q);
+    }
+    double operator()(double theta) const { return atCos(std::cos(theta)); }
+};
 
-    double operator()(double phi) const { return at(std::sin(phi), std::cos(phi)); }
-    // The integrand at the angle whose sine and cosine are s and c.
-    double at(double s, double c) const {
-        const double ni = std::max(0.0, wi.y * s + wi.z * c);
-        const double no = std::max(0.0, wo.y * s + wo.z * c);
-        const double cosAlphaN = std::max(0.0, 2.0 * ni * no - wiDotWo);
-        const double power = wholeExponent ? powWhole(cosAlphaN, unsigned(exponent))
-                                           : std::pow(cosAlphaN, exponent);
-        return power * ni * no;
+// Gauss–Kronrod 7/15-point rule (QUADPACK dqk15: R. Piessens et al., QUADPACK, Springer 1983):
+// abscissae ±kXgk[j] on [−1, 1]; kXgk[1], [3], [5] and 0 are the 7-point Gauss nodes.
+constexpr double kXgk[8] = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+                            0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+                            0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+                            0.207784955007898467600689403773245, 0.0};
+constexpr double kWgk[8] = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+                            0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+                            0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+                            0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+constexpr double kWg[4] = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+                           0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+
+struct Segment {
+    double a = 0.0, b = 0.0;
+    double value = 0.0;  // the 15-point Kronrod value
+    double error = 0.0;  // |Kronrod − Gauss|, the error of the 7-point Gauss value: a safe bound
+};
+
+// Sines and cosines of the 7 node offsets half·kXgk[j] of a segment of half-width `half`: the
+// nodes' cosines then follow by angle addition, cos(c ± x) = cos c cos x ∓ sin c sin x — 8
+// sine-cosine pairs per segment instead of 15 cosines, and the pieces either side of a lobe peak
+// and the two halves of a split segment have the same width, so the offsets are reused.
+struct NodeOffsets {
+    double half = -1.0;
+    std::array<double, 7> sinX{}, cosX{};
+    void prepare(double h) {
+        if (h == half) return;
+        half = h;
+        for (int j = 0; j < 7; ++j) {
+            sinX[j] = std::sin(h * kXgk[j]);
+            cosX[j] = std::cos(h * kXgk[j]);
+        }
     }
 };
 
-double simpson(double a, double b, double fa, double fm, double fb) {
-    return (b - a) / 6.0 * (fa + 4.0 * fm + fb);
+Segment gaussKronrod(const ArcLobe& g, double a, double b, NodeOffsets& offsets) {
+    Segment s;
+    s.a = a;
+    s.b = b;
+    const double centre = 0.5 * (a + b), half = 0.5 * (b - a);
+    offsets.prepare(half);
+    const double sc = std::sin(centre), cc = std::cos(centre);
+    const double fc = g.atCos(cc);
+    double kronrod = fc * kWgk[7], gauss = fc * kWg[3];
+    for (int j = 0; j < 7; ++j) {
+        const double even = cc * offsets.cosX[j], odd = sc * offsets.sinX[j];
+        const double pair = g.atCos(even + odd) + g.atCos(even - odd);
+        kronrod += kWgk[j] * pair;
+        if (j & 1) gauss += kWg[j / 2] * pair;
+    }
+    s.value = kronrod * half;
+    s.error = std::abs(kronrod - gauss) * half;
+    return s;
 }
 
-// Adaptive Simpson (Lyness' criterion |S₂ − S₁| ≤ 15·tol, Richardson-corrected result).
-double adaptiveSimpson(const ArcIntegrand& g, double a, double b, double fa, double fm, double fb,
-                       double whole, double tol, int depth) {
-    const double m = 0.5 * (a + b);
-    const double lm = 0.5 * (a + m), rm = 0.5 * (m + b);
-    const double flm = g(lm), frm = g(rm);
-    const double left = simpson(a, m, fa, flm, fm), right = simpson(m, b, fm, frm, fb);
-    const double delta = left + right - whole;
-    if (depth <= 0 || std::abs(delta) <= 15.0 * tol) return left + right + delta / 15.0;
-    return adaptiveSimpson(g, a, m, fa, flm, fm, left, 0.5 * tol, depth - 1) +
-           adaptiveSimpson(g, m, b, fm, frm, fb, right, 0.5 * tol, depth - 1);
+// ∫ g dθ over [ta, tb] (width ≤ 2π) to `relative` accuracy of (that integral + floorTheta), the
+// floor's share of the numerator in the same units (≥ 0).
+//  1. Breakpoints: the lobe peaks θ = 2πk; the edges ±θ0 of the support cos θ > m/P (where u^n has
+//     its kink) or, when u > 0 everywhere, the troughs π + 2πk; and ±3s, ±6.5s from each peak, s =
+//     sqrt((P − m)/(nP)) the lobe's width (u^n ≈ (P − m)^n exp(−θ²/2s²) near the peak). On every
+//     piece the integrand is smooth and cos θ monotone.
+//  2. A piece whose exact bound max(u)^n · max(½(P cos θ + q)) · width (u and cos θ monotone:
+//     the maxima are at an end) is below a tenth of the tolerance is not integrated — checked in
+//     order of decreasing bound against the running total, which can only grow (g ≥ 0); the other
+//     pieces get the 15-point Kronrod rule with |K15 − G7| as error bound.
+//  3. While the summed bounds exceed the tolerance, the piece with the largest one is halved.
+double integrateArc(const ArcLobe& g, double ta, double tb, double floorTheta, double relative) {
+    if (!(tb > ta)) return 0.0;
+    const double p = g.p, m = g.m, n = g.exponent;
+    // At exponent 0, g = ½(P cos θ + q) everywhere (x⁰ = 1, also at x ≤ 0): no lobe, no support
+    // edge. (Its closed form ½[P(sin tb − sin ta) + q(tb − ta)] is not used: at grazing angles the
+    // two terms cancel to a part in 10⁴.)
+    const double peak = p - m;
+    if (n > 0.0 && !(peak > 0.0)) return 0.0;  // rN(wi)·wo ≤ 0 on the whole circle
+    constexpr double kTwoPi = 2.0 * kPi;
+    const double ratio = m / p;  // support: cos θ > ratio
+    const bool wholeCircle = n == 0.0 || ratio < -1.0;
+    const double edge = wholeCircle ? 0.0 : std::acos(std::min(1.0, ratio));
+    const double width = n > 0.0 ? std::sqrt(peak / (n * p)) : kTwoPi;
+
+    // Breakpoints with their cosines, known exactly but at the interval's ends and ±3s, ±6.5s.
+    struct Break {
+        double x, cosX;
+    };
+    std::array<Break, 48> breaks;
+    int count = 0;
+    breaks[count++] = {ta, std::cos(ta)};
+    breaks[count++] = {tb, std::cos(tb)};
+    const auto add = [&](double x, double cosX) {
+        if (x > ta && x < tb && count < int(breaks.size())) breaks[count++] = {x, cosX};
+    };
+    const double limit = wholeCircle ? kPi : edge;
+    const double lobeOffsets[2] = {3.0 * width, 6.5 * width};
+    const double cosOffsets[2] = {lobeOffsets[0] < limit ? std::cos(lobeOffsets[0]) : 0.0,
+                                  lobeOffsets[1] < limit ? std::cos(lobeOffsets[1]) : 0.0};
+    const int kMin = int(std::floor(ta / kTwoPi)) - 1, kMax = int(std::ceil(tb / kTwoPi)) + 1;
+    for (int k = kMin; k <= kMax; ++k) {
+        const double c = k * kTwoPi;
+        add(c, 1.0);
+        if (wholeCircle) {
+            add(c + kPi, -1.0);
+        } else {
+            add(c - edge, ratio);
+            add(c + edge, ratio);
+        }
+        for (int j = 0; j < 2; ++j) {
+            if (lobeOffsets[j] >= limit) break;
+            add(c - lobeOffsets[j], cosOffsets[j]);
+            add(c + lobeOffsets[j], cosOffsets[j]);
+        }
+    }
+    std::sort(breaks.begin(), breaks.begin() + count,
+              [](const Break& x, const Break& y) { return x.x < y.x; });
+
+    // Pieces inside the support (the midpoint nearer to a peak than the support's edge), with
+    // their bounds.
+    struct Piece {
+        double a, b, bound;
+    };
+    std::array<Piece, 48> pieces;
+    int pieceCount = 0;
+    for (int j = 0; j + 1 < count; ++j) {
+        const double a = breaks[j].x, b = breaks[j + 1].x;
+        if (!(b > a)) continue;
+        const double mid = 0.5 * (a + b);
+        if (!wholeCircle && !(std::abs(mid - kTwoPi * std::nearbyint(mid / kTwoPi)) < edge))
+            continue;
+        const double cmax = std::max(breaks[j].cosX, breaks[j + 1].cosX);
+        const double u = std::max(0.0, p * cmax - m);
+        const double w = std::max(0.0, 0.5 * (p * cmax + g.q));
+        pieces[pieceCount++] = {a, b, g.power(u) * w * (b - a)};
+    }
+    std::sort(pieces.begin(), pieces.begin() + pieceCount,
+              [](const Piece& x, const Piece& y) { return x.bound > y.bound; });
+
+    constexpr int kMaxSegments = 256;
+    std::array<Segment, kMaxSegments> segments;
+    int segmentCount = 0;
+    NodeOffsets offsets;
+    double running = floorTheta, skipped = 0.0;
+    for (int j = 0; j < pieceCount; ++j) {
+        const Piece& piece = pieces[j];
+        if (skipped + piece.bound <= 0.1 * relative * running) {
+            skipped += piece.bound;
+            continue;
+        }
+        segments[segmentCount] = gaussKronrod(g, piece.a, piece.b, offsets);
+        running += segments[segmentCount].value;
+        ++segmentCount;
+    }
+    for (;;) {
+        double total = floorTheta, error = skipped;
+        int worst = -1;
+        for (int j = 0; j < segmentCount; ++j) {
+            total += segments[j].value;
+            error += segments[j].error;
+            if (worst < 0 || segments[j].error > segments[worst].error) worst = j;
+        }
+        if (error <= relative * total || worst < 0 || segmentCount + 1 >= kMaxSegments) break;
+        const Segment s = segments[worst];
+        const double mid = 0.5 * (s.a + s.b);
+        if (!(mid > s.a && mid < s.b)) {  // no longer divisible: keep its value
+            segments[worst].error = 0.0;
+            continue;
+        }
+        segments[worst] = gaussKronrod(g, s.a, mid, offsets);
+        segments[segmentCount++] = gaussKronrod(g, mid, s.b, offsets);
+    }
+    double arc = 0.0;
+    for (int j = 0; j < segmentCount; ++j) arc += segments[j].value;
+    return arc;
+}
+
+// The fixed composite Simpson rule of `intervals` equal sub-intervals of [lo, hi] in φ (the 1990
+// paper's rule), for evalFixedRule.
+double fixedSimpsonArc(const ArcLobe& g, double sigma, double lo, double hi, int intervals) {
+    const double h = (hi - lo) / intervals;
+    const auto at = [&](double phi) { return g(2.0 * phi - sigma); };
+    double sum = at(lo) + at(hi);
+    for (int j = 1; j < intervals; ++j) sum += 2.0 * at(lo + j * h);
+    for (int j = 0; j < intervals; ++j) sum += 4.0 * at(lo + (j + 0.5) * h);
+    return sum * h / 6.0;  // in φ: ∫ g(2φ − σ) dφ
 }
 
 PoulinFournier::Profile makeProfile(double exponent, double gap, double depth) {
@@ -188,7 +367,6 @@ PoulinFournier::Profile makeProfile(double exponent, double gap, double depth) {
 double evalProfile(const PoulinFournier::Profile& pr, int intervals, const Vec3& wi, const Vec3& wo,
                    bool adaptive) {
     const Projected pi = project(wi), po = project(wo);
-    const double wiDotWo = wi.dot(wo);
 
     // Floor: N = n, fl = cos^n α with cos α = max(0, r(wi)·wo).
     const double floorLength = floorLitLength(pi, po, pr);
@@ -203,82 +381,15 @@ double evalProfile(const PoulinFournier::Profile& pr, int intervals, const Vec3&
     const double hi = std::min({pr.arcLimit, hiI, hiO});
     double arc = 0.0;
     if (hi > lo) {
-        const ArcIntegrand g(wi, wo, wiDotWo, pr.exponent);
-        std::vector<double> nodes;
-        nodes.reserve(intervals + 8);
-        const double halfStep = 0.5 * (hi - lo) / intervals;
-        for (int j = 0; j <= intervals; ++j) nodes.push_back(lo + (2 * j) * halfStep);
-        nodes.back() = hi;
-        // Sines and cosines of the uniform half-grid lo + k·h/2 (the starting nodes and their
-        // midpoints) by the rotation recurrence instead of 2·intervals + 1 calls of sin/cos; the
-        // recurrence's rounding (≈ k ulps) is far below the rule's 1e-6 accuracy.
-        const int halfCount = 2 * intervals + 1;
-        std::vector<double> gridValue(halfCount);
-        {
-            const double sh = std::sin(halfStep), ch = std::cos(halfStep);
-            double s = std::sin(lo), c = std::cos(lo);
-            for (int k = 0; k < halfCount; ++k) {
-                gridValue[k] = g.at(s, c);
-                const double s2 = s * ch + c * sh;
-                c = c * ch - s * sh;
-                s = s2;
-            }
-        }
+        const ArcLobe g(wi, wo, pi.length, po.length, pr.exponent);
+        const double sigma = pi.psi + po.psi;
         if (adaptive) {
-            // Extra nodes where the integrand is least smooth, so no refinement can miss them: the
-            // lobe's peak (rN(wi)·wo = LiLo[cos(2φ − ψi − ψo) + cos(ψi − ψo)] − wi·wo is largest
-            // at φ = (ψi + ψo)/2) and the zeros of rN(wi)·wo, where max(0, ·)^n has its kink.
-            const double sum = pi.psi + po.psi;
-            std::vector<double> extra = {0.5 * sum};
-            const double p = pi.length * po.length;
-            if (p > 0.0) {
-                const double w = wiDotWo / p - std::cos(pi.psi - po.psi);
-                if (std::abs(w) < 1.0) {
-                    const double a = std::acos(w);
-                    for (int k = -1; k <= 1; ++k)
-                        for (const double sgn : {-1.0, 1.0})
-                            extra.push_back(0.5 * (sum + sgn * a) + k * kPi);
-                }
-            }
-            for (const double x : extra)
-                if (x > lo && x < hi) nodes.push_back(x);
-            std::sort(nodes.begin(), nodes.end());
-        }
-        const size_t n = nodes.size();
-        std::vector<double> values(n), mids(n - 1), pieces(n - 1);
-        // A node is on the half-grid when it is one of the uniform starting nodes (the extra
-        // nodes are not): look its value up, else evaluate.
-        auto gridIndex = [&](double x) {
-            const double k = (x - lo) / halfStep;
-            const long r = std::lround(k);
-            return (r >= 0 && r < halfCount && lo + r * halfStep == x) ? int(r) : -1;
-        };
-        std::vector<int> nodeGrid(n);
-        for (size_t j = 0; j < n; ++j) {
-            nodeGrid[j] = j + 1 == n ? (nodes[j] == hi ? halfCount - 1 : gridIndex(nodes[j]))
-                                     : gridIndex(nodes[j]);
-            values[j] = nodeGrid[j] >= 0 ? gridValue[nodeGrid[j]] : g(nodes[j]);
-        }
-        double estimate = 0.0;
-        for (size_t j = 0; j + 1 < n; ++j) {
-            const bool uniformPair = nodeGrid[j] >= 0 && nodeGrid[j + 1] == nodeGrid[j] + 2;
-            mids[j] = uniformPair ? gridValue[nodeGrid[j] + 1] : g(0.5 * (nodes[j] + nodes[j + 1]));
-            pieces[j] = simpson(nodes[j], nodes[j + 1], values[j], mids[j], values[j + 1]);
-            estimate += pieces[j];
-        }
-        if (!adaptive) {
-            arc = estimate;
+            // In θ = 2φ − σ (dφ = dθ/2); the floor's share of the numerator in the same units.
+            const double floorTheta = 2.0 * floorValue * wi.z * wo.z;
+            arc = 0.5 * integrateArc(g, 2.0 * lo - sigma, 2.0 * hi - sigma, floorTheta,
+                                     0.5 * kRelativeAccuracy);
         } else {
-            // Tolerance relative to the whole numerator (arc and floor, in the same units), shared
-            // among the sub-intervals in proportion to their width.
-            const double total = estimate + floorValue * wi.z * wo.z;
-            const double tol = 0.5 * kRelativeAccuracy * std::abs(total) / (hi - lo);
-            for (size_t j = 0; j + 1 < n; ++j) {
-                const double a = nodes[j], b = nodes[j + 1];
-                if (!(b > a)) continue;
-                arc += adaptiveSimpson(g, a, b, values[j], mids[j], values[j + 1], pieces[j],
-                                       tol * (b - a), kMaxDepth);
-            }
+            arc = fixedSimpsonArc(g, sigma, lo, hi, intervals);
         }
         arc = std::max(0.0, arc);
     }
@@ -297,7 +408,7 @@ const ParamTable& PoulinFournier::paramTable() {
         {"gap", 2.0, 0.0, 100.0, "distance between neighbouring cylinders, in radii", false},
         {"floor_depth", 4.0, 0.0, 100.0, "depth of the floor below the cylinder axes, in radii",
          false},
-        {"intervals", 64.0, 2.0, 4096.0, "Simpson sub-intervals the arc integration starts from",
+        {"intervals", 64.0, 2.0, 4096.0, "Simpson sub-intervals of the fixed rule (evalFixedRule)",
          true},
     };
     return table;
