@@ -368,10 +368,11 @@ double evalProfile(const PoulinFournier::Profile& pr, int intervals, const Vec3&
                    bool adaptive) {
     const Projected pi = project(wi), po = project(wo);
 
+    const ArcLobe g(wi, wo, pi.length, po.length, pr.exponent);
+
     // Floor: N = n, fl = cos^n α with cos α = max(0, r(wi)·wo).
     const double floorLength = floorLitLength(pi, po, pr);
-    const double floorValue =
-        floorLength > 0.0 ? std::pow(cosAlpha(wi, wo), pr.exponent) * floorLength : 0.0;
+    const double floorValue = floorLength > 0.0 ? g.power(cosAlpha(wi, wo)) * floorLength : 0.0;
 
     // Arc: the visible-and-lit interval.
     double loI, hiI, loO, hiO;
@@ -381,7 +382,6 @@ double evalProfile(const PoulinFournier::Profile& pr, int intervals, const Vec3&
     const double hi = std::min({pr.arcLimit, hiI, hiO});
     double arc = 0.0;
     if (hi > lo) {
-        const ArcLobe g(wi, wo, pi.length, po.length, pr.exponent);
         const double sigma = pi.psi + po.psi;
         if (adaptive) {
             // In θ = 2φ − σ (dφ = dθ/2); the floor's share of the numerator in the same units.
