@@ -29,8 +29,9 @@
 // Gradients here are in index space (value per voxel); GridGeometry::gradientToWorld applies the
 // inverse transpose of the index → world linear map.
 //
-// A GridReconstructor holds an OpenVDB ValueAccessor, which caches tree nodes and is not
-// thread-safe: make one per thread (they are cheap).
+// A GridReconstructor holds an OpenVDB ValueAccessor, which caches tree nodes, and the last 4³
+// block of voxel values the B-spline read; it is not thread-safe: make one per thread (they are
+// cheap). The grid's values must not change while a reconstructor reads it.
 #pragma once
 
 #include <openvdb/openvdb.h>
@@ -91,7 +92,17 @@ public:
     double valueAndGradient(Reconstruction r, GradientMethod g, const Vec3& p, Vec3& gradient);
 
 private:
+    // A 4³ block of voxels: f[a][4b + c] = voxel (i + a, j + b, k + c) for a, b, c in 0..3.
+    using Block = float[4][16];
+    // The block at (i, j, k), from the cache when it is the last one asked for.
+    const Block& block(int i, int j, int k);
+    // Reads the block leaf by leaf.
+    void gather4(int i, int j, int k, Block& f);
+
     openvdb::FloatGrid::ConstAccessor acc_;
+    Block block_;
+    openvdb::Coord blockOrigin_;
+    bool hasBlock_ = false;
 };
 
 }  // namespace lobe
