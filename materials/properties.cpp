@@ -264,14 +264,14 @@ std::vector<ModelSetting> propertySettings() {
 }
 
 double sampleScale(const std::string& model) {
-    // Poulin–Fournier integrates a profile per evaluation (adaptive Simpson) and He–Torrance
-    // sums a series and solves for z0 by Newton per evaluation. Their counts are divided by 32
-    // and 4. Checked with all nine models registered (docs/brdf-properties.md, "The sweep"): on the
-    // albedo estimator's directions PF costs 12–15 µs and HT 2.3–9.6 µs (growing with σ0/λ) per
-    // evaluation, against ~0.3 µs per sample for a closed-form model, so a PF setting costs
-    // ~1.5–2.5× a closed-form one and an HT setting 2–9×, and `lobe brdf props` at its defaults
-    // stays at ~3.5 s of CPU; PF still gets 2048 samples per albedo estimate at --samples 65536.
-    if (model == "poulin_fournier") return 1.0 / 32.0;
+    // Poulin–Fournier integrates a profile per evaluation (Gauss–Kronrod on pieces of the arc) and
+    // He–Torrance sums a series and solves for z0 by Newton per evaluation: both count 1/4 of the
+    // samples. Checked with all nine models registered (docs/brdf-properties.md, "The sweep"): on
+    // the albedo estimator's directions PF costs ~2–3 µs and HT 2.3–9.6 µs (growing with σ0/λ)
+    // per evaluation, against ~0.3 µs per sample for a closed-form model, so one of their settings
+    // costs ~1–9× a closed-form one and `lobe brdf props` at its defaults stays at a few seconds.
+    // (PF was at 1/32 while it cost 12–15 µs per evaluation, before commit 05eae7f.)
+    if (model == "poulin_fournier") return 1.0 / 4.0;
     if (model == "he_torrance") return 1.0 / 4.0;
     return 1.0;
 }
