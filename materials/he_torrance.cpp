@@ -8,6 +8,7 @@ namespace {
 
 constexpr double kWaveNumber = 2.0 * kPi;   // k = 2π/λ with lengths in units of λ
 constexpr double kSeriesTolerance = 1e-12;  // stop when a term is below this fraction of the sum
+constexpr double kEpsilon = 2.220446049250313e-16;  // the double precision unit roundoff × 2
 
 }  // namespace
 
@@ -49,12 +50,18 @@ double HeTorrance::solveZ0(double sigma0, double kSum) {
                           : a * std::exp(-a * a * inv2s2);
     if (!(z > lo && z <= hi)) z = 0.5 * (lo + hi);
     for (int it = 0; it < 200; ++it) {
-        const double h = std::log(z) - logA + z * z * inv2s2;
+        const double logZ = std::log(z), quad = z * z * inv2s2;
+        const double h = logZ - logA + quad;
+        const double dh = 1.0 / z + 2.0 * z * inv2s2;
+        // Once h is within the rounding of its own evaluation (a few ulps of its largest part),
+        // further steps only move z by noise: take the last Newton step and stop. (Testing the
+        // step size alone, as below, can wander for many iterations at that noise level.)
+        if (std::abs(h) <= 8.0 * kEpsilon * (std::abs(logZ) + std::abs(logA) + quad))
+            return z - h / dh;
         if (h > 0.0)
             hi = z;
         else
             lo = z;
-        const double dh = 1.0 / z + 2.0 * z * inv2s2;
         double next = z - h / dh;
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
         if (std::abs(next - z) <= 1e-15 * z) return next;
@@ -63,62 +70,136 @@ double HeTorrance::solveZ0(double sigma0, double kSum) {
     return z;
 }
 
+namespace {
+
+// e^d for |d| ≤ 1/64: the Taylor polynomial to degree 6, whose remainder |d|⁷/7! · e^{|d|} is
+// below 10⁻¹⁶ — under one rounding of the result.
+inline double expSmall(double d) {
+    return 1.0 +
+           d * (1.0 + d * (1.0 / 2 + d * (1.0 / 6 + d * (1.0 / 24 + d * (1.0 / 120 + d / 720)))));
+}
+constexpr double kSmallStep = 1.0 / 64.0;
+// A fresh std::exp at least this often keeps the rounding carried along a product of expSmall
+// factors below ~kResync ulps (~1e-14 relative).
+constexpr int kResync = 32;
+
+// L(m) = ln T_m = m ln g − g − lnΓ(m+1) − ln m − a/m. Written so, m ln g, g and lnΓ(m+1) are each
+// ~g ln g for the peak m ≈ g and cancel to O(ln g): an absolute rounding error of ~ε·g·ln g, i.e.
+// ~1e-9 relative in T for g ~ 1e6 (σ0/λ ~ 100). For m ≥ 30 the Stirling series (Abramowitz &
+// Stegun 6.1.41, for ln m! = lnΓ(m+1))
+//   lnΓ(m+1) = m ln m − m + ½ ln(2πm) + 1/(12m) − 1/(360m³) + 1/(1260m⁵) − 1/(1680m⁷) + …
+// (next term 1/(1188m⁹) < 1e-16 there) turns the cancelling part into
+//   m ln g − g − m ln m + m = m·(ln(1+u) − u),  u = (g − m)/m,
+// formed with log1p and accurate to ~ε·|g − m|. Below m = 30 the direct form loses < 1e-13.
+double logSeriesTerm(double m, double g, double lnG, double a) {
+    if (m < 30.0) return m * lnG - g - std::lgamma(m + 1.0) - std::log(m) - a / m;
+    const double u = (g - m) / m, inv = 1.0 / m, inv2 = inv * inv;
+    const double stirlingTail =
+        inv * (1.0 / 12 - inv2 * (1.0 / 360 - inv2 * (1.0 / 1260 - inv2 / 1680)));
+    return m * (std::log1p(u) - u) - 0.5 * std::log(2.0 * kPi * m) - stirlingTail -
+           std::log(m) - a / m;
+}
+
+}  // namespace
+
 double HeTorrance::distributionD(double g, double vxy2, double tau) {
-    // Terms T_m = g^m e^{−g} / (m!·m) · exp(−a/m), a = vxy2·τ²/4, in log space:
+    // Terms T_m = g^m e^{−g} / (m!·m) · exp(−a/m), a = vxy2·τ²/4; in log space
     //   L(m) = m ln g − g − lnΓ(m+1) − ln m − a/m.
     // L is concave in m (−lnΓ'' ≤ −1/m, +1/m² from −ln m, −2a/m³), so the terms rise to one peak
     // and then fall. The doc's rule — sum until past the peak (m > g) and the term is below 1e-12
     // of the sum — is applied walking up from the peak; walking down from it the terms only fall,
     // so the same threshold ends the walk there. Starting at the peak keeps large g (thousands of
-    // terms before the peak, all below 1e-12 of it far from it) cheap. The sum is scaled by
-    // e^{L(peak)} so that no term underflows before the sum is formed.
+    // terms before the peak, all below 1e-12 of it far from it) cheap.
+    //
+    // The walks run in linear space relative to the peak term (nothing underflows before the sum
+    // is formed), with the term ratio (a/m − a/(m+1) = a/(m(m+1)) =: x_m)
+    //   T_{m+1}/T_m = g·m/(m+1)² · e^{x_m},
+    // so no logarithm or lnΓ per term. The factor e^{±x_m} follows m by its own recurrence:
+    //   x_{m+1} − x_m = −2a/(m(m+1)(m+2)),
+    // small once m is past ∛a, so e^{x_{m+1}} = e^{x_m} · expSmall(x_{m+1} − x_m) there (a fresh
+    // std::exp where the step is not small, and every kResync terms). Reciprocals of m, m+1, m+2
+    // roll along so that each term costs one division.
     if (!(g > 0.0)) return 0.0;
     const double a = vxy2 * tau * tau / 4.0;
     const double lnG = std::log(g);
-    const auto logTerm = [&](double m) {
-        return m * lnG - g - std::lgamma(m + 1.0) - std::log(m) - a / m;
-    };
-    // Peak: L'(m) ≈ ln g − ln(m + ½) − 1/m + a/m² (digamma(m+1) ≈ ln(m + ½)) is decreasing; it
-    // is negative at m = e·g + sqrt(a) + 2, so bisect on [1, that].
-    double lo = 1.0, hi = std::exp(1.0) * g + std::sqrt(a) + 2.0;
-    const auto slope = [&](double m) { return lnG - std::log(m + 0.5) - 1.0 / m + a / (m * m); };
-    if (slope(lo) <= 0.0) {
-        hi = lo;
-    } else {
-        while (hi - lo > 0.5) {
-            const double mid = 0.5 * (lo + hi);
-            if (slope(mid) > 0.0)
-                lo = mid;
+
+    // Peak: the root of L'(m) ≈ s(m) = ln g − ln(m + ½) − 1/m + a/m² (digamma(m+1) ≈ ln(m + ½)),
+    // which is decreasing (s' = −1/(m+½) + 1/m² − 2a/m³ < 0 for m ≥ 1) and negative at
+    // m = e·g + sqrt(a) + 2. Newton from m = max(1, g) (the root when a = 0, up to ~½), kept inside
+    // the bracket [lo, hi] by bisection where it would leave it, to a quarter of a term.
+    double peak = 1.0;
+    if (lnG - std::log(1.5) - 1.0 + a > 0.0) {  // s(1) > 0: the root is past 1
+        double lo = 1.0, hi = std::exp(1.0) * g + std::sqrt(a) + 2.0;
+        double m = std::min(std::max(1.0, g), hi);
+        for (int it = 0; it < 100; ++it) {
+            const double inv = 1.0 / m;
+            const double s = lnG - std::log(m + 0.5) - inv + a * inv * inv;
+            if (s > 0.0)
+                lo = m;
             else
-                hi = mid;
+                hi = m;
+            const double ds = -1.0 / (m + 0.5) + inv * inv - 2.0 * a * inv * inv * inv;
+            double next = m - s / ds;
+            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+            const bool done = std::abs(next - m) < 0.25 || hi - lo < 0.25;
+            m = next;
+            if (done) break;
+        }
+        peak = std::max(1.0, std::floor(m));
+    }
+    // The integer peak is floor(root) or the next one: step up while the ratio says T_{m+1} > T_m.
+    for (int k = 0; k < 2 && g * peak / ((peak + 1.0) * (peak + 1.0)) *
+                                     std::exp(a / (peak * (peak + 1.0))) >
+                                 1.0;
+         ++k)
+        peak += 1.0;
+    const double logPeak = logSeriesTerm(peak, g, lnG, a);
+
+    // Up from the peak (the peak's own term included): T_{m+1} = T_m · g·m/(m+1)² · e^{x_m}.
+    double sum = 0.0, t = 1.0;
+    {
+        double invM = 1.0 / peak, invM1 = 1.0 / (peak + 1.0);
+        double e = std::exp(a * invM * invM1);  // e^{x_m}
+        int fresh = 0;
+        for (double m = peak;; m += 1.0) {
+            sum += t;
+            if (m > g && t < kSeriesTolerance * sum) break;
+            if (m > 1e9) break;  // unreachable for the parameter ranges; a guard, not a limit
+            t *= g * m * invM1 * invM1 * e;
+            const double invM2 = 1.0 / (m + 2.0);
+            const double step = -2.0 * a * invM * invM1 * invM2;  // x_{m+1} − x_m
+            if (++fresh < kResync && step >= -kSmallStep) {
+                e *= expSmall(step);
+            } else {
+                fresh = 0;
+                e = std::exp(a * invM1 * invM2);
+            }
+            invM = invM1;
+            invM1 = invM2;
         }
     }
-    double peak = std::max(1.0, std::floor(lo));
-    if (logTerm(peak + 1.0) > logTerm(peak)) peak += 1.0;
-    const double logPeak = logTerm(peak);
-
-    // Up from the peak (the peak's own term included), with the recurrence
-    // L(m+1) − L(m) = ln g − 2 ln(m+1) + ln m + a/m − a/(m+1).
-    double sum = 0.0, logT = logPeak, logM = std::log(peak);
-    for (double m = peak;; m += 1.0) {
-        const double t = std::exp(logT - logPeak);
-        sum += t;
-        if (m > g && t < kSeriesTolerance * sum) break;
-        if (m > 1e9) break;  // unreachable for the parameter ranges; a guard, not a limit
-        const double logM1 = std::log(m + 1.0);
-        logT += lnG - 2.0 * logM1 + logM + a / m - a / (m + 1.0);
-        logM = logM1;
-    }
-    // Down from the peak.
-    logT = logPeak;
-    logM = std::log(peak);
-    for (double m = peak - 1.0; m >= 1.0; m -= 1.0) {
-        const double logM0 = std::log(m);
-        logT -= lnG - 2.0 * logM + logM0 + a / m - a / (m + 1.0);  // L(m) = L(m+1) − Δ
-        logM = logM0;
-        const double t = std::exp(logT - logPeak);
-        sum += t;
-        if (t < kSeriesTolerance * sum) break;
+    // Down from the peak: T_m = T_{m+1} · (m+1)²/(g·m) · e^{−x_m}.
+    if (peak > 1.0) {
+        const double invG = 1.0 / g;
+        double invM = 1.0 / (peak - 1.0), invM1 = 1.0 / peak;
+        double e = std::exp(-a * invM * invM1);  // e^{−x_m}
+        int fresh = 0;
+        t = 1.0;
+        for (double m = peak - 1.0; m >= 1.0; m -= 1.0) {
+            t *= (m + 1.0) * (m + 1.0) * invG * invM * e;
+            sum += t;
+            if (t < kSeriesTolerance * sum || m <= 1.0) break;
+            const double invM0 = 1.0 / (m - 1.0);
+            const double step = -2.0 * a * invM0 * invM * invM1;  // −(x_{m−1} − x_m)
+            if (++fresh < kResync && step >= -kSmallStep) {
+                e *= expSmall(step);
+            } else {
+                fresh = 0;
+                e = std::exp(-a * invM0 * invM);
+            }
+            invM1 = invM;
+            invM = invM0;
+        }
     }
     return kPi * kPi * tau * tau / 4.0 * std::exp(logPeak) * sum;
 }
@@ -154,7 +235,10 @@ Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
             lastTau = tau[b];
             const double s0 = sigma0[b], t = tau[b];
             const double kSum = effectiveRoughnessK(cosI, s0, t) + effectiveRoughnessK(cosO, s0, t);
-            const double z0 = solveZ0(s0, kSum);
+            // z0 ≤ A = (σ0/4)·kSum/sqrt(π/2) (solveZ0). When A/σ0 < 1e-9, (z0/σ0)² < 1e-18 is
+            // lost in 1 + (z0/σ0)² and σ = σ0 exactly, so the solve is skipped (the common case:
+            // away from grazing, erfc makes K tiny).
+            const double z0 = kSum / (4.0 * std::sqrt(kPi / 2.0)) < 1e-9 ? 0.0 : solveZ0(s0, kSum);
             const double sigma = s0 / std::sqrt(1.0 + (z0 / s0) * (z0 / s0));
             const double root = kWaveNumber * sigma * (cosI + cosO);
             const double d = distributionD(root * root, vxy2, t);
