@@ -188,12 +188,13 @@ RgbImage lobeImage(const LatticeSet& set, int modelA, int modelB, double thresho
 
 std::string studyMarkdown(const std::vector<StudyRow>& rows) {
     std::string out =
-        "| lattice | spp | time (s) | mean rel. score change | max rel. score change | "
+        "| lattice | spp | time (s) | CPU (s) | mean rel. score change | max rel. score change | "
         "Kendall tau | discordant pairs of pairs | same best | same worst |\n"
-        "|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|\n";
+        "|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|\n";
     for (const StudyRow& r : rows) {
         out += "| " + std::to_string(r.size) + "² | " + std::to_string(r.samplesPerPixel) + " | " +
-               fmt("%.2f", r.seconds) + " | " + fmt("%.2e", r.meanRelChange) + " | " +
+               fmt("%.2f", r.seconds) + " | " + fmt("%.2f", r.cpuSeconds) + " | " +
+               fmt("%.2e", r.meanRelChange) + " | " +
                fmt("%.2e", r.maxRelChange) + " | " + fmt("%.4f", r.agreement.kendallTau) + " | " +
                std::to_string(r.agreement.discordant) + " / " +
                std::to_string(r.agreement.comparable) + " | " + (r.sameBest ? "yes" : "no") +

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 namespace lobe {
 
@@ -237,14 +238,16 @@ std::vector<StudyRow> runConvergenceStudy(const StandardTestOptions& base,
                                           const std::vector<int>& samplesPerPixel,
                                           OverlapVariant variant) {
     if (sizes.empty() || samplesPerPixel.empty()) throw Error("convergence study: empty grid");
-    const auto run = [&](int size, int spp, double& seconds) {
+    const auto run = [&](int size, int spp, double& seconds, double& cpuSeconds) {
         StandardTestOptions o = base;
         o.size = size;
         o.samplesPerPixel = spp;
         const auto start = std::chrono::steady_clock::now();
+        const std::clock_t cpuStart = std::clock();  // process CPU time, all threads
         std::vector<PairScore> pairs =
             scoreAllPairs(renderStandardLattices(o), o.threshold, variant, o.threads);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
         // Back to pair order (a, b) so lists compare element by element.
         std::sort(pairs.begin(), pairs.end(), [](const PairScore& x, const PairScore& y) {
             return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
@@ -253,8 +256,8 @@ std::vector<StudyRow> runConvergenceStudy(const StandardTestOptions& base,
     };
     const int refSize = *std::max_element(sizes.begin(), sizes.end());
     const int refSpp = *std::max_element(samplesPerPixel.begin(), samplesPerPixel.end());
-    double refSeconds = 0.0;
-    const std::vector<PairScore> ref = run(refSize, refSpp, refSeconds);
+    double refSeconds = 0.0, refCpuSeconds = 0.0;
+    const std::vector<PairScore> ref = run(refSize, refSpp, refSeconds, refCpuSeconds);
     std::vector<double> refScores;
     for (const PairScore& p : ref) refScores.push_back(p.score);
     const auto bestOf = [](const std::vector<PairScore>& v, bool best) {
@@ -270,9 +273,13 @@ std::vector<StudyRow> runConvergenceStudy(const StandardTestOptions& base,
             StudyRow row;
             row.size = size;
             row.samplesPerPixel = spp;
+            const bool isRef = size == refSize && spp == refSpp;
             const std::vector<PairScore> pairs =
-                (size == refSize && spp == refSpp) ? ref : run(size, spp, row.seconds);
-            if (size == refSize && spp == refSpp) row.seconds = refSeconds;
+                isRef ? ref : run(size, spp, row.seconds, row.cpuSeconds);
+            if (isRef) {
+                row.seconds = refSeconds;
+                row.cpuSeconds = refCpuSeconds;
+            }
             std::vector<double> scores;
             for (size_t i = 0; i < pairs.size(); ++i) {
                 scores.push_back(pairs[i].score);

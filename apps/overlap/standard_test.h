@@ -95,6 +95,7 @@ struct StudyRow {
     int size = 0;
     int samplesPerPixel = 0;
     double seconds = 0.0;         // render + metric wall time
+    double cpuSeconds = 0.0;      // the same in CPU time of all threads (robust to other jobs)
     double maxRelChange = 0.0;    // max over pairs |score − ref| / ref
     double meanRelChange = 0.0;   // mean over pairs of the same
     RankAgreement agreement;      // of the pair scores with the reference's
