@@ -136,7 +136,40 @@ void runRender(const RenderCommand& cmd) {
 
 }  // namespace
 
+namespace {
+
+struct SheetCommand {
+    std::string out;
+    std::vector<std::string> images;  // IMAGE or IMAGE=CAPTION
+    int columns = 3;
+    int thumb = 256;
+};
+
+void runSheet(const SheetCommand& cmd) {
+    if (cmd.columns < 1 || cmd.thumb < 16) throw Error("--columns must be >= 1 and --thumb >= 16");
+    std::vector<ContactSheetEntry> entries;
+    for (const std::string& item : cmd.images) {
+        const auto eq = item.find('=');
+        const std::string path = item.substr(0, eq);
+        const std::string caption =
+            eq == std::string::npos ? fs::path(path).stem().string() : item.substr(eq + 1);
+        entries.push_back({readImage(path), caption});
+    }
+    writeImage(cmd.out, makeContactSheet(entries, cmd.columns, cmd.thumb));
+}
+
+}  // namespace
+
 void registerRenderCommand(CLI::App& app) {
+    static SheetCommand sheet;
+    CLI::App* sheetSub = app.add_subcommand(
+        "contact-sheet", "Put existing images side by side with captions (as render batches do)");
+    sheetSub->add_option("--out", sheet.out, "the sheet to write (.png, .jpg, .exr)")->required();
+    sheetSub->add_option("images", sheet.images, "IMAGE or IMAGE=CAPTION, in order")->required();
+    sheetSub->add_option("--columns", sheet.columns, "images per row")->capture_default_str();
+    sheetSub->add_option("--thumb", sheet.thumb, "thumbnail width in pixels")->capture_default_str();
+    sheetSub->callback([] { runSheet(sheet); });
+
     static RenderCommand cmd;
     CLI::App* sub = app.add_subcommand(
         "render", "Render scene files (JSON) to EXR and PNG; several scenes or a folder make a "

@@ -63,6 +63,7 @@ void writePixels(const std::string& path, int width, int height,
             }
         pixels = bytes.data();
         spec.attribute("oiio:ColorSpace", "sRGB");
+        if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:85");
     }
 
     const std::string tmp = temporarySibling(path);
