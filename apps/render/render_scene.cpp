@@ -219,7 +219,9 @@ Spectrum RenderScene::trace(const Ray& ray, double jitter, ThreadState& st,
         st.samplers[i].begin(ray, xi - std::floor(xi));
         st.hasPending[i] = 0;
     }
-    const double tBackdrop = backdrop_.enabled() ? backdrop_.intersect(ray) : kInf;
+    // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not seen.
+    double tBackdrop = backdrop_.enabled() ? backdrop_.intersect(ray) : kInf;
+    if (tBackdrop > ray.tMax) tBackdrop = kInf;
     const Vec3 toViewer = -ray.d;
 
     // Composites every volume sample with t < tEnd in depth order; false once opaque.
@@ -244,7 +246,7 @@ Spectrum RenderScene::trace(const Ray& ray, double jitter, ThreadState& st,
     };
 
     Ray segment = ray;
-    segment.tMax = tBackdrop;
+    segment.tMax = std::min(ray.tMax, tBackdrop);
     for (int hits = 0;; ++hits) {
         std::optional<SurfaceHit> hit;
         if (surfaces_ && hits < kMaxSurfaceHits) hit = surfaces_->intersect(segment);

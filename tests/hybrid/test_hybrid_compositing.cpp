@@ -37,6 +37,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -120,11 +121,13 @@ SceneSpec sceneOf(const std::vector<std::string>& objects, double step, bool bac
     return parseScene(std::string(head) + list + "]}", dataDir().string(), "hybrid-compositing");
 }
 
-Spectrum traceDown(const std::vector<std::string>& objects, double step, bool backdrop = false) {
+Spectrum traceDown(const std::vector<std::string>& objects, double step, bool backdrop = false,
+                   double tMax = std::numeric_limits<double>::infinity()) {
     const RenderScene scene(sceneOf(objects, step, backdrop), false);
     Ray ray;
     ray.o = Vec3(1.5, 1.5, 200);
     ray.d = Vec3(0, 0, -1);
+    ray.tMax = tMax;
     return scene.traceRay(ray, 0.5);
 }
 
@@ -250,6 +253,13 @@ TEST(HybridCompositing, OpacityPoint97LetsThreePercentOfWhatIsBehindShow) {
     ASSERT_GT(clear.maxValue(), 0.0);
     const Spectrum shell = traceDown({plane(50, 0.97, 0.05, "[1, 1, 1]")}, 0.05, true);
     expectNear(shell, L1 * 0.97 + clear * 0.03, 1e-7, "0.97 over the backdrop");
+
+    // A ray that ends (tMax = 170, z = 30) between the planes sees neither the far plane nor the
+    // backdrop: only 0.97 L_1.
+    const std::vector<std::string> both = {plane(50, 0.97, 0.05, "[1, 1, 1]"),
+                                           plane(10, 1.0, 1.0, "[0, 0, 1]")};
+    expectNear(traceDown(both, 0.05, false, 170.0), L1 * 0.97, 1e-7, "ray ending between planes");
+    expectNear(traceDown(both, 0.05, true, 170.0), L1 * 0.97, 1e-7, "ray ending before backdrop");
 }
 
 // Case (d): render() gives the same image on 1 and 2 threads, bit for bit (each pixel's samples
