@@ -120,10 +120,10 @@ void runRender(const RenderCommand& cmd) {
         writeImage(base + ".png", rgb);
         if (!cmd.quiet)
             std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
-                                 "samples -> %s.png/.exr\n",
+                                 "samples (%.1f M shaded) -> %s.png/.exr\n",
                          i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                          spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
-                         stats.volumeSamples * 1e-6, base.c_str());
+                         stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
         if (!spec.group.empty() && !cmd.noContactSheets) sheets[spec.group].push_back({rgb, spec.title});
     }
     progress.finish();

@@ -88,6 +88,7 @@ double coverage(const Film& objectsOnly) {
 int main(int argc, char** argv) {
     std::string scenePath = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper/rendering-01.json";
     int threads = 2, size = 1024, spp = 8, lattice = 32, splitSize = 256;
+    double roulette = -1.0;  // < 0: the scene's own
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
@@ -97,9 +98,10 @@ int main(int argc, char** argv) {
         else if (a == "--spp") spp = std::atoi(next().c_str());
         else if (a == "--lattice") lattice = std::atoi(next().c_str());
         else if (a == "--split-size") splitSize = std::atoi(next().c_str());
+        else if (a == "--roulette") roulette = std::atof(next().c_str());
         else {
             std::fprintf(stderr, "usage: %s [--scene F] [--threads N] [--size N] [--spp N] "
-                                 "[--lattice N] [--split-size N]\n", argv[0]);
+                                 "[--lattice N] [--split-size N] [--roulette W]\n", argv[0]);
             return 2;
         }
     }
@@ -107,6 +109,7 @@ int main(int argc, char** argv) {
         SceneSpec spec = loadSceneFile(scenePath);
         spec.width = spec.height = size;
         spec.samplesPerPixel = spp;
+        if (roulette >= 0.0) spec.shadingRoulette = roulette;
         std::printf("# Paper scene benchmark\n\nscene `%s`, %d threads, volume step %.3g voxel\n\n",
                     scenePath.c_str(), threads, spec.volumeStepVoxels);
 
@@ -124,6 +127,7 @@ int main(int argc, char** argv) {
         SceneSpec refSpec = spec;
         refSpec.volumeStepVoxels = 0.02;
         refSpec.samplesPerPixel = 64;
+        refSpec.shadingRoulette = 0.0;  // every sample shaded
         const RenderScene reference(refSpec, false);
         std::vector<Spectrum> ref(size_t(lattice) * lattice), got(ref.size());
         const int stride = size / lattice;

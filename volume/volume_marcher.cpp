@@ -27,8 +27,8 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     if (!(settings_.stepVoxels > 0.0 && settings_.stepVoxels <= 16.0))
         throw Error(name + ": step must be in (0, 16] voxels, got " +
                     std::to_string(settings_.stepVoxels));
-    if (settings_.brickSize < 2 || settings_.brickSize > 64)
-        throw Error(name + ": brick size must be in [2, 64] voxels, got " +
+    if (settings_.brickSize < 1 || settings_.brickSize > 64)
+        throw Error(name + ": brick size must be in [1, 64] voxels, got " +
                     std::to_string(settings_.brickSize));
     if (!(settings_.minGradientPerVoxel >= 0.0))
         throw Error(name + ": the gradient threshold must be >= 0");
@@ -125,7 +125,7 @@ double VolumeRaySampler::peekT() const {
     return t > tExit_ ? kInf : t;
 }
 
-bool VolumeRaySampler::next(double tEnd, VolumeSample& s) {
+bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
     if (!active_) return false;
     const DvrVolume& v = *vol_;
     const DvrSettings& set = v.settings_;
@@ -174,23 +174,29 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s) {
         ++k_;
         if (!(alphaVoxel > 0.0)) continue;
 
-        Vec3 gIdx;
-        if (set.gradient == GradientMethod::kBSplineDerivative)
-            recon_.bsplineWithGradient(p, gIdx);
-        else
-            gIdx = recon_.centralDifferences(p);
-        const GridGeometry& geo = v.geometry_;
         s.t = t;
-        s.position = geo.indexToWorld(p);
+        s.indexPosition = p;
+        s.position = v.geometry_.indexToWorld(p);
         s.value = value;
-        s.gradient = geo.gradientToWorld(gIdx);
-        const double gLen = s.gradient.length();
-        s.hasNormal = gLen * geo.referenceVoxelLength() >= set.minGradientPerVoxel && gLen > 0.0;
-        s.normal = s.hasNormal ? -s.gradient / gLen : Vec3(0, 0, 1);
         s.alpha = correctOpacity(alphaVoxel, stepRefLengths_);
         s.colour = colour;
+        if (withNormal) addNormal(s);
         return true;
     }
+}
+
+void VolumeRaySampler::addNormal(VolumeSample& s) {
+    const DvrSettings& set = vol_->settings_;
+    Vec3 gIdx;
+    if (set.gradient == GradientMethod::kBSplineDerivative)
+        recon_.bsplineWithGradient(s.indexPosition, gIdx);
+    else
+        gIdx = recon_.centralDifferences(s.indexPosition);
+    const GridGeometry& geo = vol_->geometry_;
+    s.gradient = geo.gradientToWorld(gIdx);
+    const double gLen = s.gradient.length();
+    s.hasNormal = gLen * geo.referenceVoxelLength() >= set.minGradientPerVoxel && gLen > 0.0;
+    s.normal = s.hasNormal ? -s.gradient / gLen : Vec3(0, 0, 1);
 }
 
 Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,

@@ -122,6 +122,14 @@ struct RenderScene::ThreadState {
     std::vector<char> hasPending;
 };
 
+RenderScene::ThreadState RenderScene::newThreadState() const {
+    ThreadState st;
+    for (const VolumeObject& vo : volumeObjects_) st.samplers.emplace_back(*vo.volume);
+    st.pending.resize(volumeObjects_.size());
+    st.hasPending.resize(volumeObjects_.size());
+    return st;
+}
+
 RenderScene::RenderScene(const SceneSpec& spec, bool progress) : spec_(spec) {
     openvdb::initialize();
     camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
@@ -200,7 +208,7 @@ RenderScene::RenderScene(const SceneSpec& spec, bool progress) : spec_(spec) {
 
 RenderScene::~RenderScene() = default;
 
-Spectrum RenderScene::trace(const Ray& ray, double jitter, ThreadState& st,
+Spectrum RenderScene::trace(const Ray& ray, double jitter, Rng& rng, ThreadState& st,
                             RenderStats& stats) const {
     ++stats.rays;
     const double threshold = spec_.terminationTransmittance;
@@ -230,15 +238,29 @@ Spectrum RenderScene::trace(const Ray& ray, double jitter, ThreadState& st,
         for (;;) {
             int best = -1;
             for (size_t i = 0; i < nv; ++i) {
-                if (!st.hasPending[i]) st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i]);
+                if (!st.hasPending[i]) st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i], false);
                 if (st.hasPending[i] && (best < 0 || st.pending[i].t < st.pending[best].t))
                     best = int(i);
             }
             if (best < 0) return true;
             const VolumeObject& vo = volumeObjects_[best];
-            const VolumeSample& s = st.pending[best];
-            composite(s.alpha, shadeVolumeSample(vo.spec->material, s, toViewer, spec_.lights,
-                                                 vo.axis, vo.fallback));
+            VolumeSample& s = st.pending[best];
+            // Russian roulette on shading (Arvo & Kirk 1990): a sample whose weight in the pixel,
+            // w = T·α, is below the scene's threshold w0 is shaded with probability w/w0 and then
+            // counted w0/w times; the expected radiance is unchanged (no bias), only the
+            // gradient and BRDF work of faint samples is saved. The transmittance is always
+            // updated exactly.
+            const double weight = transmittance * s.alpha;
+            const double w0 = spec_.shadingRoulette;
+            Spectrum L(0.0);
+            if (weight >= w0 || rng.uniform() * w0 < weight) {
+                st.samplers[best].addNormal(s);
+                L = shadeVolumeSample(vo.spec->material, s, toViewer, spec_.lights, vo.axis,
+                                      vo.fallback);
+                if (weight < w0) L *= w0 / weight;
+                ++stats.volumeShaded;
+            }
+            composite(s.alpha, L);
             st.hasPending[best] = 0;
             ++stats.volumeSamples;
             if (transmittance < threshold) return false;
@@ -275,27 +297,23 @@ Spectrum RenderScene::pixel(int x, int y, ThreadState& st, RenderStats& counters
         Rng rng = pixelSampleRng(spec_.seed, x, y, s);
         const Vec2 j = jitteredSample(strata, s, rng);
         const Ray ray = camera_.generateRay((x + j.x) / spec_.width, (y + j.y) / spec_.height);
-        sum += trace(ray, rng.uniform(), st, counters);
+        const double jitter = rng.uniform();
+        sum += trace(ray, jitter, rng, st, counters);
     }
     Spectrum value = sum * (1.0 / spp);
     if (!value.isFinite()) value = Spectrum(0.0);  // never NaN into an image
     return value;
 }
 
-Spectrum RenderScene::traceRay(const Ray& ray, double jitter) const {
-    ThreadState st;
-    for (const VolumeObject& vo : volumeObjects_) st.samplers.emplace_back(*vo.volume);
-    st.pending.resize(volumeObjects_.size());
-    st.hasPending.resize(volumeObjects_.size());
+Spectrum RenderScene::traceRay(const Ray& ray, double jitter, uint64_t seed) const {
+    ThreadState st = newThreadState();
     RenderStats stats;
-    return trace(ray, jitter, st, stats);
+    Rng rng(seed);
+    return trace(ray, jitter, rng, st, stats);
 }
 
 Spectrum RenderScene::renderPixel(int x, int y) const {
-    ThreadState st;
-    for (const VolumeObject& vo : volumeObjects_) st.samplers.emplace_back(*vo.volume);
-    st.pending.resize(volumeObjects_.size());
-    st.hasPending.resize(volumeObjects_.size());
+    ThreadState st = newThreadState();
     RenderStats stats;
     return pixel(x, y, st, stats);
 }
@@ -303,13 +321,7 @@ Spectrum RenderScene::renderPixel(int x, int y) const {
 Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) const {
     const auto start = std::chrono::steady_clock::now();
     Film film(spec_.width, spec_.height);
-    tbb::enumerable_thread_specific<ThreadState> states([&] {
-        ThreadState st;
-        for (const VolumeObject& vo : volumeObjects_) st.samplers.emplace_back(*vo.volume);
-        st.pending.resize(volumeObjects_.size());
-        st.hasPending.resize(volumeObjects_.size());
-        return st;
-    });
+    tbb::enumerable_thread_specific<ThreadState> states([&] { return newThreadState(); });
     tbb::enumerable_thread_specific<RenderStats> stats;
 
     SchedulerOptions scheduler;
@@ -330,6 +342,7 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) co
             statsOut->rays += s.rays;
             statsOut->surfaceHits += s.surfaceHits;
             statsOut->volumeSamples += s.volumeSamples;
+            statsOut->volumeShaded += s.volumeShaded;
         }
         for (const ThreadState& st : states)
             for (const VolumeRaySampler& sampler : st.samplers) {

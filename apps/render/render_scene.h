@@ -26,6 +26,7 @@
 namespace lobe {
 
 class ProgressReporter;
+class Rng;
 class SurfaceScene;
 class DvrVolume;
 
@@ -42,6 +43,7 @@ struct RenderStats {
     long long rays = 0;
     long long surfaceHits = 0;
     long long volumeSamples = 0;  // samples composited (non-zero opacity)
+    long long volumeShaded = 0;   // of those, shaded (not dropped by the shading roulette)
     // render() only: lattice points reconstructed, and jumped over by empty-space skipping
     // (VolumeRaySampler counters, summed over threads and volumes).
     long long volumeEvaluated = 0;
@@ -60,8 +62,9 @@ public:
     const SceneSpec& spec() const { return spec_; }
     // Renders at the spec's size, samples and seed.
     Film render(const RenderOptions& options, RenderStats* stats = nullptr) const;
-    // Radiance along one ray; `jitter` ∈ [0,1) places the volumes' sample lattices. For tests.
-    Spectrum traceRay(const Ray& ray, double jitter) const;
+    // Radiance along one ray; `jitter` ∈ [0,1) places the volumes' sample lattices, `seed`
+    // drives the shading roulette (SceneSpec::shadingRoulette). For tests.
+    Spectrum traceRay(const Ray& ray, double jitter, uint64_t seed = 0) const;
     // The value render() gives pixel (x, y): the mean over the spec's jittered samples. For
     // benchmarks that compare a subset of pixels against a reference.
     Spectrum renderPixel(int x, int y) const;
@@ -70,7 +73,9 @@ private:
     struct SurfaceObject;
     struct VolumeObject;
     struct ThreadState;
-    Spectrum trace(const Ray& ray, double jitter, ThreadState& state, RenderStats& stats) const;
+    ThreadState newThreadState() const;
+    Spectrum trace(const Ray& ray, double jitter, Rng& rng, ThreadState& state,
+                   RenderStats& stats) const;
     Spectrum pixel(int x, int y, ThreadState& state, RenderStats& stats) const;
 
     SceneSpec spec_;

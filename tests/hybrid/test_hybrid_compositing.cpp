@@ -115,7 +115,8 @@ SceneSpec sceneOf(const std::vector<std::string>& objects, double step, bool bac
                       "camera": {"position": [1.5, 1.5, 200], "target": [1.5, 1.5, 0],
                       "up": [0, 1, 0], "fov_deg": 3}, "lights": [{"position": [1.5, 1.5, 1e6],
                       "intensity": 1e12}], "backdrop": {"enabled": %s},
-                      "volume": {"step_voxels": %.17g, "termination_transmittance": 0},
+                      "volume": {"step_voxels": %.17g, "termination_transmittance": 0,
+                                 "shading_roulette": 0},
                       "objects": [)",
                   backdrop ? "true" : "false", step);
     return parseScene(std::string(head) + list + "]}", dataDir().string(), "hybrid-compositing");

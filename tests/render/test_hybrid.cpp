@@ -46,7 +46,9 @@ std::string slabObject(double alpha, double kd, const std::string& colour, doubl
     return buf;
 }
 
-Spectrum traceDown(const std::vector<std::string>& objects, double step = 0.05) {
+// The scene of `objects` seen from above; roulette = the shading-roulette threshold (0: every
+// sample shaded, the exact sums the closed forms below describe).
+SceneSpec sceneOf(const std::vector<std::string>& objects, double step, double roulette) {
     static const fs::path dir = writeVolumes();
     std::string list;
     for (const auto& o : objects) list += (list.empty() ? "" : ",") + o;
@@ -55,15 +57,23 @@ Spectrum traceDown(const std::vector<std::string>& objects, double step = 0.05) 
                   R"({"camera": {"position": [1.5, 1.5, 200], "target": [1.5, 1.5, 0],
                       "up": [0, 1, 0]}, "lights": [{"position": [1.5, 1.5, 1e6],
                       "intensity": %g}], "backdrop": {"enabled": false},
-                      "volume": {"step_voxels": %g, "termination_transmittance": 0},
+                      "volume": {"step_voxels": %g, "termination_transmittance": 0,
+                                 "shading_roulette": %.17g},
                       "objects": [)",
-                  kLightIntensity, step);
-    const SceneSpec spec = parseScene(std::string(head) + list + "]}", dir.string(), "hybrid");
-    const RenderScene scene(spec, false);
+                  kLightIntensity, step, roulette);
+    return parseScene(std::string(head) + list + "]}", dir.string(), "hybrid");
+}
+
+Ray downRay() {
     Ray ray;
     ray.o = Vec3(1.5, 1.5, 200);
     ray.d = Vec3(0, 0, -1);
-    return scene.traceRay(ray, 0.5);
+    return ray;
+}
+
+Spectrum traceDown(const std::vector<std::string>& objects, double step = 0.05) {
+    const RenderScene scene(sceneOf(objects, step, 0.0), false);
+    return scene.traceRay(downRay(), 0.5);
 }
 
 }  // namespace
@@ -84,6 +94,43 @@ TEST(Hybrid, TwoOverlappingVolumesMergeByDepth) {
     EXPECT_NEAR(L[1], green, 0.01 * green);
     EXPECT_NEAR(L[0], red, 0.02 * red);
     EXPECT_NEAR(L[2], 0.0, 1e-12);
+}
+
+// The shading roulette (render_scene.cpp) shades a sample of weight w = T·α < w0 with
+// probability w/w0 and counts it w0/w times: unbiased. A slab of α = 0.01 per voxel at step 0.1
+// has samples of weight ≤ 1e-3, all under w0 = 0.05, so every sample plays. Over 4000 seeds the
+// mean must match the exact (w0 = 0) radiance within 4 standard errors, the spread must be
+// non-zero (the roulette really dropped samples), and with w0 = 0 the seed must not matter.
+TEST(Hybrid, ShadingRouletteIsUnbiased) {
+    const std::vector<std::string> slab = {slabObject(0.01, 0.5, "[1, 1, 1]", 0)};
+    const RenderScene exactScene(sceneOf(slab, 0.1, 0.0), false);
+    const double exact = exactScene.traceRay(downRay(), 0.5)[1];
+    ASSERT_GT(exact, 0.0);
+    EXPECT_EQ(exactScene.traceRay(downRay(), 0.5, 12345)[1], exact);
+
+    const RenderScene roulette(sceneOf(slab, 0.1, 0.05), false);
+    const int n = 4000;
+    double sum = 0.0, sum2 = 0.0;
+    for (int seed = 0; seed < n; ++seed) {
+        const double v = roulette.traceRay(downRay(), 0.5, uint64_t(seed))[1];
+        ASSERT_TRUE(std::isfinite(v));
+        sum += v;
+        sum2 += v * v;
+    }
+    const double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+    EXPECT_GT(sd, 0.01 * exact);
+    EXPECT_NEAR(mean, exact, 4.0 * sd / std::sqrt(double(n)));
+
+    // render() shades fewer samples than it composites, and none are lost from the count.
+    SceneSpec small = sceneOf(slab, 0.1, 0.05);
+    small.width = small.height = 4;
+    small.fovDegrees = 0.1;
+    RenderOptions options;
+    options.progress = false;
+    RenderStats stats;
+    RenderScene(small, false).render(options, &stats);
+    EXPECT_GT(stats.volumeSamples, 0);
+    EXPECT_LT(stats.volumeShaded, stats.volumeSamples / 2);
 }
 
 }  // namespace lobe
