@@ -51,6 +51,7 @@ double cpuSeconds() {
 struct Timed {
     double build = 0.0, render = 0.0, renderCpu = 0.0;
     Film film;
+    RenderStats stats;
 };
 
 Timed renderTimed(const SceneSpec& spec, int threads) {
@@ -62,7 +63,7 @@ Timed renderTimed(const SceneSpec& spec, int threads) {
     options.threads = threads;
     options.progress = false;
     const double c1 = cpuSeconds();
-    t.film = scene.render(options);
+    t.film = scene.render(options, &t.stats);
     t.render = now() - t1;
     t.renderCpu = cpuSeconds() - c1;
     t.build = t1 - t0;
@@ -161,6 +162,11 @@ int main(int argc, char** argv) {
                     "of CPU per camera ray |\n", size, spp, full.render, full.renderCpu,
                     full.renderCpu / threads, full.renderCpu / (double(size) * size * spp) * 1e6);
         std::printf("| write EXR + PNG | %.2f s | |\n", outputSeconds);
+        std::printf("| volume samples composited / shaded (roulette %.3g) | %.1f M / %.1f M | "
+                    "%.1f / %.1f per camera ray |\n", spec.shadingRoulette,
+                    full.stats.volumeSamples * 1e-6, full.stats.volumeShaded * 1e-6,
+                    double(full.stats.volumeSamples) / full.stats.rays,
+                    double(full.stats.volumeShaded) / full.stats.rays);
         std::printf("| preview 512² × 1 spp (render only / with build) | **%.2f s** / %.2f s | "
                     "%.2f CPU s |\n", pre.render, pre.render + pre.build, pre.renderCpu);
         std::printf("| reference (step 0.02, 64 spp) on %d×%d pixels | %.2f s | |\n\n", lattice,

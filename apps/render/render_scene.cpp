@@ -212,6 +212,7 @@ Spectrum RenderScene::trace(const Ray& ray, double jitter, Rng& rng, ThreadState
                             RenderStats& stats) const {
     ++stats.rays;
     const double threshold = spec_.terminationTransmittance;
+    double rouletteSum = rng.uniform();  // the shading roulette's offset (below)
     Spectrum radiance;
     double transmittance = 1.0;
     auto composite = [&](double alpha, const Spectrum& L) {
@@ -249,11 +250,22 @@ Spectrum RenderScene::trace(const Ray& ray, double jitter, Rng& rng, ThreadState
             // w = T·α, is below the scene's threshold w0 is shaded with probability w/w0 and then
             // counted w0/w times; the expected radiance is unchanged (no bias), only the
             // gradient and BRDF work of faint samples is saved. The transmittance is always
-            // updated exactly.
+            // updated exactly, so the weights along a ray do not depend on the draws. The draws
+            // are systematic (one uniform offset per ray, as in systematic resampling — Kitagawa
+            // 1996): a running sum of w/w0 from that offset, and a sample is shaded when the sum
+            // crosses an integer. Each sample's probability is still exactly w/w0, but the shaded
+            // samples are spread evenly over the ray's faint weight instead of clumping, which
+            // lowers the noise at the same cost.
             const double weight = transmittance * s.alpha;
             const double w0 = spec_.shadingRoulette;
+            bool shade = weight >= w0;
+            if (!shade) {
+                const double before = rouletteSum;
+                rouletteSum += weight / w0;
+                shade = std::floor(rouletteSum) > std::floor(before);
+            }
             Spectrum L(0.0);
-            if (weight >= w0 || rng.uniform() * w0 < weight) {
+            if (shade) {
                 st.samplers[best].addNormal(s);
                 L = shadeVolumeSample(vo.spec->material, s, toViewer, spec_.lights, vo.axis,
                                       vo.fallback);

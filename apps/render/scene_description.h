@@ -84,7 +84,7 @@ struct SceneSpec {
     double terminationTransmittance = 1e-3;
     // Volume samples whose weight in the pixel (transmittance × opacity) is below this are
     // shaded by Russian roulette (render_scene.cpp): unbiased, less work, a little noise. 0: off.
-    double shadingRoulette = 0.01;
+    double shadingRoulette = 0.03;
     bool emptySpaceSkipping = true;  // volume_marcher.h; off only to time it (same image)
     std::vector<ObjectSpec> objects;
 };

@@ -378,7 +378,7 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         scene.volumeStepVoxels = v.number("step_voxels", 0.05, 1e-3, 16.0);
         scene.terminationTransmittance = v.number("termination_transmittance", 1e-3, 0.0, 0.5);
         scene.emptySpaceSkipping = v.boolean("empty_space_skipping", true);
-        scene.shadingRoulette = v.number("shading_roulette", 0.01, 0.0, 0.5);
+        scene.shadingRoulette = v.number("shading_roulette", 0.03, 0.0, 0.5);
         v.finish();
     }
     if (!r.has("objects")) r.fail("objects", "missing (an array of objects)");
