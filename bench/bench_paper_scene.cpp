@@ -162,6 +162,11 @@ int main(int argc, char** argv) {
                     "of CPU per camera ray |\n", size, spp, full.render, full.renderCpu,
                     full.renderCpu / threads, full.renderCpu / (double(size) * size * spp) * 1e6);
         std::printf("| write EXR + PNG | %.2f s | |\n", outputSeconds);
+        std::printf("| volume lattice points skipped / reconstructed | %.1f M / %.1f M | "
+                    "%.1f / %.1f per camera ray |\n", full.stats.volumeSkipped * 1e-6,
+                    full.stats.volumeEvaluated * 1e-6,
+                    double(full.stats.volumeSkipped) / full.stats.rays,
+                    double(full.stats.volumeEvaluated) / full.stats.rays);
         std::printf("| volume samples composited / shaded (roulette %.3g) | %.1f M / %.1f M | "
                     "%.1f / %.1f per camera ray |\n", spec.shadingRoulette,
                     full.stats.volumeSamples * 1e-6, full.stats.volumeShaded * 1e-6,
