@@ -27,9 +27,11 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     if (!(settings_.stepVoxels > 0.0 && settings_.stepVoxels <= 16.0))
         throw Error(name + ": step must be in (0, 16] voxels, got " +
                     std::to_string(settings_.stepVoxels));
-    if (settings_.brickSize < 1 || settings_.brickSize > 64)
-        throw Error(name + ": brick size must be in [1, 64] voxels, got " +
-                    std::to_string(settings_.brickSize));
+    const int bs = settings_.brickSize;
+    if (bs < 1 || bs > 64 || (bs & (bs - 1)) != 0)
+        throw Error(name + ": brick size must be a power of two in [1, 64] voxels, got " +
+                    std::to_string(bs));
+    while ((1 << brickShift_) < bs) ++brickShift_;
     if (!(settings_.minGradientPerVoxel >= 0.0))
         throw Error(name + ": the gradient threshold must be >= 0");
     geometry_ = GridGeometry(grid_->transform(), name);
@@ -49,10 +51,24 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     }
     const size_t count = size_t(brickCount_[0]) * brickCount_[1] * brickCount_[2];
     brickTransparent_.assign(count, 0);
+    cellWords_ = (b * b * b + 63) / 64;
+    cellTransparent_.assign(count * size_t(cellWords_), 0);
+    // A cell's support, as offsets from the cell: [c + lo, c + lo + n) per axis.
+    const bool bspline = settings_.reconstruction == Reconstruction::kCubicBSpline;
+    const int supportLo = bspline ? -1 : 0, supportN = bspline ? 4 : 2;
+    const int fp = b + kSupportBelow + kSupportAbove;  // brick footprint side
     // Min/max over each brick's sample footprint, in parallel over z-slabs of bricks; one
     // accessor per task (accessors are not thread-safe).
     tbb::parallel_for(0, brickCount_[2], [&](int bz) {
         openvdb::FloatGrid::ConstAccessor acc = grid_->getConstAccessor();
+        std::vector<float> foot(size_t(fp) * fp * fp);
+        std::vector<float> rangeX(2 * size_t(fp) * fp * b), rangeY(2 * size_t(fp) * b * b);
+        // Whether every value in [lo, hi] (widened by a rounding margin) is transparent.
+        auto transparent = [&](float lo, float hi) {
+            const double m = kRangeMargin * std::max(1.0, std::max(std::abs(double(lo)),
+                                                                   std::abs(double(hi))));
+            return tf_.isTransparent(lo - m, hi + m);
+        };
         for (int by = 0; by < brickCount_[1]; ++by)
             for (int bx = 0; bx < brickCount_[0]; ++bx) {
                 const int x0 = brickLo_[0] + bx * b, y0 = brickLo_[1] + by * b,
@@ -62,13 +78,62 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                     for (int y = y0 - kSupportBelow; y < y0 + b + kSupportAbove; ++y)
                         for (int x = x0 - kSupportBelow; x < x0 + b + kSupportAbove; ++x) {
                             const float v = acc.getValue(openvdb::Coord(x, y, z));
+                            foot[(size_t(z - z0 + kSupportBelow) * fp + (y - y0 + kSupportBelow)) * fp +
+                                 (x - x0 + kSupportBelow)] = v;
                             vmin = std::min(vmin, v);
                             vmax = std::max(vmax, v);
                         }
-                const double m = kRangeMargin * std::max(1.0, std::max(std::abs(double(vmin)),
-                                                                       std::abs(double(vmax))));
                 const size_t i = (size_t(bz) * brickCount_[1] + by) * brickCount_[0] + bx;
-                brickTransparent_[i] = tf_.isTransparent(vmin - m, vmax + m) ? 1 : 0;
+                brickTransparent_[i] = transparent(vmin, vmax) ? 1 : 0;
+                if (brickTransparent_[i]) continue;
+                // Cell level: min/max over each cell's support window, separably (along x, then
+                // y, then z) on the footprint: (min, max) pairs shrink fp³ → fp²·b → fp·b² → b³.
+                const int o = supportLo + kSupportBelow;  // first footprint index of cell 0's window
+                auto window = [&](auto read, int c, float& lo, float& hi) {
+                    lo = std::numeric_limits<float>::infinity();
+                    hi = -lo;
+                    for (int d = 0; d < supportN; ++d) {
+                        float a, z;
+                        read(o + c + d, a, z);
+                        lo = std::min(lo, a);
+                        hi = std::max(hi, z);
+                    }
+                };
+                for (int z = 0; z < fp; ++z)
+                    for (int y = 0; y < fp; ++y)
+                        for (int cx = 0; cx < b; ++cx) {
+                            const size_t row = (size_t(z) * fp + y) * fp;
+                            auto read = [&](int x, float& a, float& zz) { a = zz = foot[row + x]; };
+                            const size_t out = (size_t(z) * fp + y) * b + cx;
+                            window(read, cx, rangeX[2 * out], rangeX[2 * out + 1]);
+                        }
+                for (int z = 0; z < fp; ++z)
+                    for (int cy = 0; cy < b; ++cy)
+                        for (int cx = 0; cx < b; ++cx) {
+                            auto read = [&](int y, float& a, float& zz) {
+                                const size_t in = (size_t(z) * fp + y) * b + cx;
+                                a = rangeX[2 * in];
+                                zz = rangeX[2 * in + 1];
+                            };
+                            const size_t out = (size_t(z) * b + cy) * b + cx;
+                            window(read, cy, rangeY[2 * out], rangeY[2 * out + 1]);
+                        }
+                uint64_t* words = &cellTransparent_[i * size_t(cellWords_)];
+                for (int cz = 0; cz < b; ++cz)
+                    for (int cy = 0; cy < b; ++cy)
+                        for (int cx = 0; cx < b; ++cx) {
+                            auto read = [&](int z, float& a, float& zz) {
+                                const size_t in = (size_t(z) * b + cy) * b + cx;
+                                a = rangeY[2 * in];
+                                zz = rangeY[2 * in + 1];
+                            };
+                            float lo, hi;
+                            window(read, cz, lo, hi);
+                            if (transparent(lo, hi)) {
+                                const int bit = (cz * b + cy) * b + cx;
+                                words[bit >> 6] |= uint64_t(1) << (bit & 63);
+                            }
+                        }
             }
     });
 }
@@ -139,10 +204,20 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         if (t >= tEnd) return false;
         const Vec3 p = oIdx_ + dIdx_ * t;
         if (set.emptySpaceSkipping) {
-            int bi[3];
-            for (int a = 0; a < 3; ++a)
-                bi[a] = std::min(v.brickCount_[a] - 1,
-                                 std::max(0, int(std::floor((p[a] - v.brickLo_[a]) / b))));
+            // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
+            // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
+            // Points of an edge brick's clamp may lie outside it: their cell is not tested.
+            int bi[3], bit = 0;
+            bool inside = true;
+            for (int a = 2; a >= 0; --a) {
+                int f = int(p[a]);
+                f -= p[a] < double(f) ? 1 : 0;  // floor, |p| < 2³¹ inside the domain
+                const int q = f - v.brickLo_[a];
+                bi[a] = q < 0 ? 0 : std::min(v.brickCount_[a] - 1, q >> v.brickShift_);
+                const int c = q - (bi[a] << v.brickShift_);
+                inside = inside && c >= 0 && c < b;
+                bit = bit * b + c;
+            }
             const size_t idx =
                 (size_t(bi[2]) * v.brickCount_[1] + bi[1]) * v.brickCount_[0] + bi[0];
             if (v.brickTransparent_[idx]) {
@@ -163,6 +238,12 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                 const double kLast = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
                 skipped_ += std::max(0LL, std::min(kNext, (long long)kLast + 1) - k_);
                 k_ = kNext;
+                continue;
+            }
+            // Cell level, inside the brick.
+            if (inside && (v.cellTransparent_[idx * size_t(v.cellWords_) + (bit >> 6)] >> (bit & 63) & 1)) {
+                ++skipped_;
+                ++k_;
                 continue;
             }
         }

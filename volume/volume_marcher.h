@@ -28,7 +28,13 @@
 // sample in the brick is transparent and the marcher jumps to the first lattice point beyond the
 // brick's exit. B = 4 rendered the paper scene ~15 % faster than B = 8 (finer bricks skip more of
 // the cortex shell's surroundings; the table is 1 byte per 64 voxels; B = 1 and 2 were no faster:
-// more jumps). Skipping therefore changes no sample that contributes: on and off give the same
+// more jumps). Inside a brick that is not transparent, a second level marks single cells
+// [c, c+1)³ whose own support (c−1 … c+2 for the B-spline, c … c+1 for trilinear) is
+// transparent: a lattice point in such a cell is passed over without reconstruction, at the
+// cost of one bit test (a thin shell transfer function such as the cortex's leaves most cells of
+// its bricks transparent: on rendering 1 the reconstructions per camera ray fell from 60.8 to
+// 31.5, the render time by ~16 %). The cell test works on floor(p) in integers — no std::floor
+// or division per lattice point — hence brick sizes that are powers of two. Skipping therefore changes no sample that contributes: on and off give the same
 // composited colour up to floating-point rounding (a tiny margin of 1e-6 on the range guards
 // rounding). This min/max hierarchy replaces OpenVDB's HDDA (tools::VolumeRayIntersector),
 // which only knows the active topology — a dense MRI grid is active almost everywhere — and
@@ -64,7 +70,7 @@ struct DvrSettings {
     GradientMethod gradient = GradientMethod::kCentralDifferences;
     double stepVoxels = 0.05;  // the paper's sampling: 20 samples per voxel
     bool emptySpaceSkipping = true;
-    int brickSize = 4;                  // voxels per brick side
+    int brickSize = 4;                  // voxels per brick side, a power of two
     double minGradientPerVoxel = 1e-3;  // below: no usable normal (header)
 };
 
@@ -85,7 +91,8 @@ struct VolumeSample {
 class DvrVolume {
 public:
     // Throws lobe::Error naming `name` for a non-linear/singular transform or bad settings
-    // (step not in (0, 16], brick size not in [1, 64], negative gradient threshold).
+    // (step not in (0, 16], brick size not a power of two in [1, 64], negative gradient
+    // threshold).
     DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf, const DvrSettings& settings,
               const std::string& name = "volume");
 
@@ -107,7 +114,13 @@ private:
     Vec3 domainLo_{0.0}, domainHi_{0.0};  // index space, continuous
     int brickLo_[3] = {0, 0, 0};          // index of brick (0,0,0)'s first voxel
     int brickCount_[3] = {0, 0, 0};
+    int brickShift_ = 0;                  // log2 of the brick size
     std::vector<unsigned char> brickTransparent_;
+    // Inside bricks that are not transparent: one bit per cell [c, c+1)³ (cells x-fastest within
+    // the brick, cellWords_ words per brick), set when every sample in the cell is transparent
+    // (header, "Empty-space skipping").
+    int cellWords_ = 0;
+    std::vector<uint64_t> cellTransparent_;
 };
 
 // Per-thread, per-ray marching state for one DvrVolume (holds an OpenVDB accessor: never share

@@ -174,19 +174,20 @@ TEST(VolumeMarcher, OpacityCorrectionMakesStepsAgreeOnSmoothData) {
     EXPECT_GT(std::abs(aBad - aRef), 0.1);
 }
 
-TEST(VolumeMarcher, EmptySpaceSkippingChangesNoSample) {
-    // The density-map transfer function is transparent below 0.69, so most bricks of the blob
-    // are skipped; every sample that contributes must be identical (same lattice, same value).
-    Blob blob;
+// Every sample that contributes must be identical with and without skipping (same lattice, same
+// value), and the skipped + reconstructed points must be the points marched without skipping.
+void expectSkippingChangesNoSample(const openvdb::FloatGrid::Ptr& grid, const TransferFunction& tf,
+                                   Reconstruction reconstruction, double step) {
     DvrSettings on, off;
+    on.reconstruction = off.reconstruction = reconstruction;
+    on.stepVoxels = off.stepVoxels = step;
     off.emptySpaceSkipping = false;
-    const TransferFunction tf = TransferFunction::densityMaps();
-    const DvrVolume vOn(blob.grid, tf, on), vOff(blob.grid, tf, off);
-    EXPECT_GT(vOn.transparentBrickFraction(), 0.5);
+    const DvrVolume vOn(grid, tf, on), vOff(grid, tf, off);
+    EXPECT_GT(vOn.transparentBrickFraction(), 0.3);
     long long skipped = 0, evalOn = 0, evalOff = 0, contributing = 0;
     for (int n = 0; n < 100; ++n) {
         // Rays from random points on a sphere of radius 30 towards random points within 4 voxels
-        // of the centre, where the field exceeds 0.69.
+        // of the centre.
         Rng rng(11, n);
         const Vec3 dir =
             normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
@@ -216,6 +217,35 @@ TEST(VolumeMarcher, EmptySpaceSkippingChangesNoSample) {
     EXPECT_GT(contributing, 1000);
     EXPECT_GT(skipped, evalOn);  // skipping really happened, and saved most of the work
     EXPECT_EQ(evalOn + skipped, evalOff);
+}
+
+TEST(VolumeMarcher, EmptySpaceSkippingChangesNoSample) {
+    // The density-map transfer function is transparent below 0.69, so most bricks of the blob
+    // are skipped (brick level).
+    Blob blob;
+    expectSkippingChangesNoSample(blob.grid, TransferFunction::densityMaps(),
+                                  Reconstruction::kTrilinear, 0.05);
+    expectSkippingChangesNoSample(blob.grid, TransferFunction::densityMaps(),
+                                  Reconstruction::kCubicBSpline, 0.05);
+    // A thin shell (the cortex preset around value 0.5, width 0.1): the bricks it crosses are
+    // not transparent, but most of their cells are (cell level), for both supports (2³ and 4³).
+    const TransferFunction shell = TransferFunction::cortex(0.5, 0.1);
+    expectSkippingChangesNoSample(blob.grid, shell, Reconstruction::kTrilinear, 0.1);
+    expectSkippingChangesNoSample(blob.grid, shell, Reconstruction::kCubicBSpline, 0.1);
+    // A hard ball (1 inside radius 8, 0 outside) under a shell at 0.05 … 0.15: B-spline values
+    // there come only from voxels up to two cells away (a 2³ support would call those cells
+    // transparent and lose them; trilinear values there come from the cell's own corners).
+    const openvdb::FloatGrid::Ptr ball = test::makeGrid(
+        [](int i, int j, int k) {
+            return (i - 20.0) * (i - 20.0) + (j - 20.0) * (j - 20.0) + (k - 20.0) * (k - 20.0) <
+                           64.0
+                       ? 1.0
+                       : 0.0;
+        },
+        Coord(0), Coord(40));
+    const TransferFunction low = TransferFunction::cortex(0.1, 0.1);
+    expectSkippingChangesNoSample(ball, low, Reconstruction::kTrilinear, 0.1);
+    expectSkippingChangesNoSample(ball, low, Reconstruction::kCubicBSpline, 0.1);
 }
 
 TEST(VolumeMarcher, SegmentsKeepTheLattice) {
