@@ -109,6 +109,28 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
         origins_.push_back(o);
         values_.insert(values_.end(), all.begin() + b * kBrickValues,
                        all.begin() + (b + 1) * kBrickValues);
+        // Cell classes, compared in double exactly as the per-cell test they replace: straddling
+        // (min ≤ iso ≤ max over the 8 corners), all above (min > iso), else all below.
+        const float* v = &all[b * kBrickValues];
+        std::uint64_t masks[kMaskWords] = {};
+        for (int z = 0; z < kBrickCells; ++z)
+            for (int y = 0; y < kBrickCells; ++y)
+                for (int x = 0; x < kBrickCells; ++x) {
+                    const int base = x + kBrickPoints * (y + kBrickPoints * z);
+                    double cMin = kInf, cMax = -kInf;
+                    for (int c = 0; c < 8; ++c) {
+                        const double w = v[base + ((c & 1) ? 1 : 0) + ((c & 2) ? kBrickPoints : 0) +
+                                           ((c & 4) ? kBrickPoints * kBrickPoints : 0)];
+                        cMin = std::min(cMin, w);
+                        cMax = std::max(cMax, w);
+                    }
+                    const std::uint64_t bit = std::uint64_t(1) << (x + kBrickCells * y);
+                    if (cMin > iso_)
+                        masks[kBrickCells + z] |= bit;
+                    else if (!(cMax < iso_))
+                        masks[z] |= bit;
+                }
+        cellMasks_.insert(cellMasks_.end(), masks, masks + kMaskWords);
         // World AABB of the brick's 8 index-space corners, padded by the overlap and a relative
         // margin so float traversal never culls a grazing ray.
         std::array<float, 6> box{};
@@ -134,7 +156,7 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
 
 std::size_t IsoExactSurface::memoryBytes() const {
     return values_.size() * sizeof(float) + origins_.size() * sizeof(openvdb::Coord) +
-           bounds_.size() * sizeof(bounds_[0]);
+           cellMasks_.size() * sizeof(std::uint64_t) + bounds_.size() * sizeof(bounds_[0]);
 }
 
 void IsoExactSurface::cellCorners(unsigned brick, const openvdb::Coord& cell, double c[8]) const {
@@ -192,25 +214,38 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
     }
     if (!(t0 <= t1)) return false;
 
-    // Cell-face crossings per axis: the next integer plane k along the axis, reached at
-    // tNext = (k − o)/d; computed from the integer k each time so nothing drifts.
-    int step[3];
+    // DDA state per axis (Amanatides & Woo 1987): the next integer plane k, reached at
+    // tNext = (k − o)/d (computed from the integer k each time so nothing drifts), and the cell
+    // the ray is in, relative to the brick's first cell. The cell lies just behind k: k − 1 going
+    // up, k going down; an axis the ray does not move along keeps floor(o). The first cell is
+    // clamped to one outside the brick (the overlap of kBrickOverlapVoxels can start there);
+    // lookups clamp it into the brick, extending the boundary cell's interpolant over the overlap.
+    int step[3], cell[3];
     double k[3], tNext[3];
     for (int a = 0; a < 3; ++a) {
         const double p = o[a] + t0 * d[a];
+        double c;
         if (d[a] > 0.0) {
             step[a] = 1;
             k[a] = std::floor(p) + 1.0;
+            c = k[a] - 1.0;
         } else if (d[a] < 0.0) {
             step[a] = -1;
             k[a] = std::ceil(p) - 1.0;
+            c = k[a];
         } else {
             step[a] = 0;
             k[a] = 0.0;
+            c = std::floor(p);
         }
         tNext[a] = step[a] ? (k[a] - o[a]) / d[a] : kInf;
+        c -= org[a];
+        cell[a] = (c >= -1.0) ? (c <= kBrickCells ? static_cast<int>(c) : kBrickCells) : -1;
     }
 
+    const float* values = &values_[std::size_t(brick) * kBrickValues];
+    const std::uint64_t* masks = &cellMasks_[std::size_t(brick) * kMaskWords];
+    constexpr int sy = kBrickPoints, sz = kBrickPoints * kBrickPoints;
     const double tol = kRootToleranceVoxels / dLen;
     double t = t0;
     double gPrevEnd = 0.0;  // g at the end of the previous segment; 0: none yet
@@ -218,21 +253,17 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
     for (int guard = 0; guard < 4 * 3 * (kBrickCells + 4) && t <= t1; ++guard) {
         const double tEnd = std::min(t1, std::min(tNext[0], std::min(tNext[1], tNext[2])));
         if (tEnd > t || (tEnd == t && t == t1)) {
-            const Vec3 mid = o + d * (0.5 * (t + tEnd));
-            const openvdb::Coord cell = clampCell(brick, mid);
-            double c[8];
-            cellCorners(brick, cell, c);
-            const double cMin = std::min({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]});
-            const double cMax = std::max({c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]});
-            if (cMin > iso_) {
-                if (gPrevEnd < 0.0) { tHit = t; return true; }
-                gPrevEnd = 1.0;  // the whole cell is above iso
-            } else if (cMax < iso_) {
-                if (gPrevEnd > 0.0) { tHit = t; return true; }
-                gPrevEnd = -1.0;
-            } else {
+            const int lx = std::min(kBrickCells - 1, std::max(0, cell[0]));
+            const int ly = std::min(kBrickCells - 1, std::max(0, cell[1]));
+            const int lz = std::min(kBrickCells - 1, std::max(0, cell[2]));
+            const std::uint64_t bit = std::uint64_t(1) << (lx + kBrickCells * ly);
+            if (masks[lz] & bit) {
+                // The 8 corners straddle iso: the cubic along the segment (trilinear_cell.h).
+                const float* v = values + lx + sy * ly + sz * lz;
+                const double c[8] = {v[0],      v[1],      v[sy],      v[sy + 1],
+                                     v[sz],     v[sz + 1], v[sz + sy], v[sz + sy + 1]};
                 const Vec3 p = o + d * t;
-                const Vec3 u0(p.x - cell.x(), p.y - cell.y(), p.z - cell.z());
+                const Vec3 u0(p.x - (org.x() + lx), p.y - (org.y() + ly), p.z - (org.z() + lz));
                 Cubic g = trilinearAlongRay(c, u0, d);
                 g.c[0] -= iso_;
                 const double g0 = g.c[0];
@@ -246,12 +277,19 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
                     return true;
                 }
                 gPrevEnd = g(tEnd - t);
+            } else if (masks[kBrickCells + lz] & bit) {
+                if (gPrevEnd < 0.0) { tHit = t; return true; }
+                gPrevEnd = 1.0;  // the whole cell is above iso
+            } else {
+                if (gPrevEnd > 0.0) { tHit = t; return true; }
+                gPrevEnd = -1.0;  // the whole cell is below iso
             }
         }
         if (tEnd >= t1) break;
         for (int a = 0; a < 3; ++a) {
             if (tNext[a] <= tEnd) {
                 k[a] += step[a];
+                cell[a] += step[a];
                 tNext[a] = (k[a] - o[a]) / d[a];
             }
         }

@@ -9,11 +9,17 @@
 //   the brick exactly. Bricks whose range excludes the iso value (min > iso or max < iso) are
 //   never built; the others are the user geometry's primitives, each holding its own 9³ values
 //   (so memory grows with the surface's area, and the callbacks never touch the VDB tree).
-// - Inside a brick the ray is cut at every crossing of a cell face (a 3-way merge of the axis
-//   crossings, i.e. a DDA whose cell is taken at each segment's midpoint, so no cell along the ray
-//   is skipped even through voxel corners and edges or along faces). Cells whose 8 corners are all
-//   above or all below the iso value are skipped; otherwise the interpolant along the segment is a
-//   cubic in t (trilinear_cell.h), split at its derivative's roots and refined to ~1e-10 voxel.
+// - Inside a brick the ray is cut at every crossing of a cell face: a 3-D DDA (Amanatides & Woo,
+//   "A Fast Voxel Traversal Algorithm for Ray Tracing", Eurographics 1987) that keeps, per axis,
+//   the next integer plane and the integer cell index, and steps every axis whose plane is reached
+//   at the segment's end (all of them at once on a tie, so through a voxel edge or corner the
+//   zero-length segments are skipped and no cell the ray's interior passes through is missed).
+//   Each crossing time is recomputed from its integer plane, (k − o)/d, so nothing drifts.
+// - Each brick also stores two 512-bit masks, built once with the brick: the cells whose 8 corners
+//   straddle the iso value, and the cells whose corners are all above it. A cell that does not
+//   straddle costs one bit test (it cannot hold a root: the interpolant is a convex combination
+//   of its corners); only straddling cells read their 8 corners and build the cubic in t
+//   (trilinear_cell.h), split at its derivative's roots and refined to ~1e-10 voxel.
 //   A sign change exactly across a cell face (rounding between two cells' cubics) is caught by
 //   comparing each segment's start value with the previous segment's end value, and bricks are
 //   entered 1e-7 voxel early and left 1e-7 voxel late so a root on a brick face is never lost.
@@ -62,8 +68,16 @@ public:
     std::size_t brickCount() const { return origins_.size(); }
     std::size_t candidateBrickCount() const { return candidateBricks_; }  // skipped ones included
     std::size_t memoryBytes() const;
+    // Index of the first cell (= first lattice point) of brick `brick`; the tests use it.
+    const openvdb::Coord& brickOrigin(unsigned brick) const { return origins_[brick]; }
 
 private:
+    // Cell-class masks per brick: kMaskWords words of which word z (0…7) holds bit x + 8y of the
+    // cells (x, y, z) that straddle iso, and word kBrickCells + z those whose corners are all
+    // above iso. The cells in neither are all below iso.
+    static constexpr int kMaskWords = 2 * kBrickCells;
+    static_assert(kBrickCells * kBrickCells == 64, "one 64-bit word per z layer of cells");
+
     void cellCorners(unsigned brick, const openvdb::Coord& cell, double c[8]) const;
     openvdb::Coord clampCell(unsigned brick, const Vec3& u) const;
     Vec3 worldGradient(unsigned brick, const Vec3& u) const;  // ∇f in world space at index u
@@ -72,6 +86,7 @@ private:
     AffineMap map_;
     std::vector<openvdb::Coord> origins_;      // first cell (= first lattice point) of each brick
     std::vector<float> values_;                // kBrickValues per brick, x fastest
+    std::vector<std::uint64_t> cellMasks_;     // kMaskWords per brick (see kMaskWords)
     std::vector<std::array<float, 6>> bounds_; // world AABB per brick (min xyz, max xyz)
     std::size_t candidateBricks_ = 0;
 
