@@ -19,6 +19,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kBrickOverlapVoxels = 1e-7;
 // Root refinement stops when the bracket is this short (index units, voxels).
 constexpr double kRootToleranceVoxels = 1e-10;
+// Margin of the straddling-cell box test (index units): far above the walk's rounding (~1e-13
+// voxel at CT coordinates) and the brick overlap (1e-7), far below a cell.
+constexpr double kStraddleBoxMarginVoxels = 1e-5;
 
 int floorDiv(int a, int b) { return (a >= 0) ? a / b : -((-a + b - 1) / b); }
 
@@ -113,6 +116,7 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
         // (min ≤ iso ≤ max over the 8 corners), all above (min > iso), else all below.
         const float* v = &all[b * kBrickValues];
         std::uint64_t masks[kMaskWords] = {};
+        std::array<std::uint8_t, 6> sbox{kBrickCells, kBrickCells, kBrickCells, 0, 0, 0};
         for (int z = 0; z < kBrickCells; ++z)
             for (int y = 0; y < kBrickCells; ++y)
                 for (int x = 0; x < kBrickCells; ++x) {
@@ -127,10 +131,17 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
                     const std::uint64_t bit = std::uint64_t(1) << (x + kBrickCells * y);
                     if (cMin > iso_)
                         masks[kBrickCells + z] |= bit;
-                    else if (!(cMax < iso_))
+                    else if (!(cMax < iso_)) {
                         masks[z] |= bit;
+                        const int xyz[3] = {x, y, z};
+                        for (int a = 0; a < 3; ++a) {
+                            sbox[a] = static_cast<std::uint8_t>(std::min<int>(sbox[a], xyz[a]));
+                            sbox[a + 3] = static_cast<std::uint8_t>(std::max<int>(sbox[a + 3], xyz[a] + 1));
+                        }
+                    }
                 }
         cellMasks_.insert(cellMasks_.end(), masks, masks + kMaskWords);
+        straddleBoxes_.push_back(sbox);
         // World AABB of the brick's 8 index-space corners, padded by the overlap and a relative
         // margin so float traversal never culls a grazing ray.
         std::array<float, 6> box{};
@@ -156,7 +167,8 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
 
 std::size_t IsoExactSurface::memoryBytes() const {
     return values_.size() * sizeof(float) + origins_.size() * sizeof(openvdb::Coord) +
-           cellMasks_.size() * sizeof(std::uint64_t) + bounds_.size() * sizeof(bounds_[0]);
+           cellMasks_.size() * sizeof(std::uint64_t) +
+           straddleBoxes_.size() * sizeof(straddleBoxes_[0]) + bounds_.size() * sizeof(bounds_[0]);
 }
 
 void IsoExactSurface::cellCorners(unsigned brick, const openvdb::Coord& cell, double c[8]) const {
@@ -213,6 +225,26 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
         t1 = std::min(t1, tb + overlap);
     }
     if (!(t0 <= t1)) return false;
+    {
+        // Early out: [t0, t1] misses the box of the brick's straddling cells, widened by
+        // kStraddleBoxMarginVoxels to cover the walk's rounding and the cells it clamps in from
+        // the overlap. The walk itself still starts at t0, so a ray that passes is unchanged.
+        const std::array<std::uint8_t, 6>& sb = straddleBoxes_[brick];
+        double s0 = t0, s1 = t1;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = org[a] + sb[a] - kStraddleBoxMarginVoxels;
+            const double hi = org[a] + sb[a + 3] + kStraddleBoxMarginVoxels;
+            if (d[a] == 0.0) {
+                if (!(o[a] >= lo && o[a] <= hi)) return false;
+                continue;
+            }
+            double ta = (lo - o[a]) / d[a], tb = (hi - o[a]) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            s0 = std::max(s0, ta);
+            s1 = std::min(s1, tb);
+        }
+        if (!(s0 <= s1)) return false;
+    }
 
     // DDA state per axis (Amanatides & Woo 1987): the next integer plane k, reached at
     // tNext = (k − o)/d (computed from the integer k each time so nothing drifts), and the cell

@@ -19,7 +19,11 @@
 //   straddle the iso value, and the cells whose corners are all above it. A cell that does not
 //   straddle costs one bit test (it cannot hold a root: the interpolant is a convex combination
 //   of its corners); only straddling cells read their 8 corners and build the cubic in t
-//   (trilinear_cell.h), split at its derivative's roots and refined to ~1e-10 voxel.
+//   (trilinear_cell.h), split at its derivative's roots and refined to ~1e-10 voxel. A ray that
+//   misses the box of a brick's straddling cells (most calls: the box is a slab clip, 6 divisions)
+//   returns at once: the cells it would visit all lie on one side of iso (consecutive cells of
+//   the walk share at least one corner, so two non-straddling ones have the same side), and the
+//   walk could only have reported a hit at a sign change.
 //   A sign change exactly across a cell face (rounding between two cells' cubics) is caught by
 //   comparing each segment's start value with the previous segment's end value, and bricks are
 //   entered 1e-7 voxel early and left 1e-7 voxel late so a root on a brick face is never lost.
@@ -87,6 +91,9 @@ private:
     std::vector<openvdb::Coord> origins_;      // first cell (= first lattice point) of each brick
     std::vector<float> values_;                // kBrickValues per brick, x fastest
     std::vector<std::uint64_t> cellMasks_;     // kMaskWords per brick (see kMaskWords)
+    // Per brick, the box of its straddling cells in cell units relative to the brick's first
+    // cell (lo xyz, hi xyz with hi exclusive, so 0 … 8); empty (lo > hi) when there are none.
+    std::vector<std::array<std::uint8_t, 6>> straddleBoxes_;
     std::vector<std::array<float, 6>> bounds_; // world AABB per brick (min xyz, max xyz)
     std::size_t candidateBricks_ = 0;
 
