@@ -13,10 +13,12 @@
 #include "volume/volume_marcher.h"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 #include <limits>
 #include <map>
+#include <optional>
 
 namespace lobe {
 
@@ -41,36 +43,55 @@ void worldAxes(const ObjectSpec& spec, Vec3& axis, Vec3& fallback) {
     fallback = apply(f);
 }
 
-// Loads (once per distinct source) and returns the volume in its own world space.
-class VolumeCache {
-public:
-    const Volume& get(const VolumeSourceSpec& s, const std::string& context) {
-        const std::string key = s.path + "|" + std::to_string(s.divideBy) + "|" +
-                                std::to_string(s.background) + "|" + std::to_string(s.blurFwhmMm);
-        auto it = cache_.find(key);
-        if (it != cache_.end()) return it->second;
-        LoadOptions options;
-        if (s.dims) {
-            options.hasLayout = true;
-            options.layout.dims = *s.dims;
-            options.layout.type = parseVoxelType(s.type.empty() ? "uint8" : s.type);
-            options.layout.endian = parseEndian(s.endian);
-            options.layout.spacing = s.spacing;
-        }
-        if (s.divideBy != 1.0) options.normalize = s.divideBy;
-        options.background = s.background;
-        try {
-            Volume v = loadVolume(s.path, options);
-            if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);
-            return cache_.emplace(key, std::move(v)).first->second;
-        } catch (const Error& e) {
-            throw Error(context + ": " + e.what());
-        }
-    }
+std::string sourceKey(const VolumeSourceSpec& s) {
+    return s.path + "|" + std::to_string(s.divideBy) + "|" + std::to_string(s.background) + "|" +
+           std::to_string(s.blurFwhmMm);
+}
 
-private:
-    std::map<std::string, Volume> cache_;
-};
+Volume loadSource(const VolumeSourceSpec& s) {
+    LoadOptions options;
+    if (s.dims) {
+        options.hasLayout = true;
+        options.layout.dims = *s.dims;
+        options.layout.type = parseVoxelType(s.type.empty() ? "uint8" : s.type);
+        options.layout.endian = parseEndian(s.endian);
+        options.layout.spacing = s.spacing;
+    }
+    if (s.divideBy != 1.0) options.normalize = s.divideBy;
+    options.background = s.background;
+    Volume v = loadVolume(s.path, options);
+    if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);
+    return v;
+}
+
+// Every distinct source of the scene loaded once, the files in parallel (decompressing one
+// file is serial, so loading the skull and the brain side by side saves ~0.2 s of a preview).
+// Returns, per object, the index of its volume in `volumes`. A failure is reported for the
+// first failing object in scene order, whatever order the loads finished in.
+std::vector<size_t> loadSources(const SceneSpec& spec, std::vector<Volume>& volumes) {
+    std::map<std::string, size_t> slotOfKey;
+    std::vector<size_t> slotOfObject, firstObjectOfSlot;
+    for (size_t i = 0; i < spec.objects.size(); ++i) {
+        const auto [it, isNew] =
+            slotOfKey.emplace(sourceKey(spec.objects[i].source), firstObjectOfSlot.size());
+        if (isNew) firstObjectOfSlot.push_back(i);
+        slotOfObject.push_back(it->second);
+    }
+    volumes.resize(firstObjectOfSlot.size());
+    std::vector<std::optional<std::string>> errors(volumes.size());
+    tbb::parallel_for(size_t(0), volumes.size(), [&](size_t slot) {
+        try {
+            volumes[slot] = loadSource(spec.objects[firstObjectOfSlot[slot]].source);
+        } catch (const std::exception& e) {
+            errors[slot] = e.what();
+        }
+    });
+    for (size_t i = 0; i < spec.objects.size(); ++i)
+        if (errors[slotOfObject[i]])
+            throw Error(spec.path + ": objects[" + std::to_string(i) + "] (" +
+                        spec.objects[i].name + "): " + *errors[slotOfObject[i]]);
+    return slotOfObject;
+}
 
 // A shallow copy of the volume's grid (same voxels) whose transform is followed by the object's
 // transform, so the grid maps index → scene world directly.
@@ -135,13 +156,14 @@ RenderScene::RenderScene(const SceneSpec& spec, bool progress) : spec_(spec) {
     camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
                             spec_.fovDegrees, double(spec_.width) / spec_.height, spec_.crop);
     ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);
-    VolumeCache cache;
+    std::vector<Volume> volumes;
+    const std::vector<size_t> volumeOfObject = loadSources(spec_, volumes);
     Vec3 lo(kInf), hi(-kInf);
     for (size_t i = 0; i < spec_.objects.size(); ++i) {
         const ObjectSpec& object = spec_.objects[i];
         const std::string context =
             spec_.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
-        const Volume& volume = cache.get(object.source, context);
+        const Volume& volume = volumes[volumeOfObject[i]];
         openvdb::FloatGrid::Ptr grid = placeInWorld(volume, object.transform, context);
         growByGridBox(*grid, lo, hi);
         Vec3 axis, fallback;

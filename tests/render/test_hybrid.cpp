@@ -10,6 +10,7 @@
 // sample with no normal (zero gradient) sends colour·kd/π.
 #include "apps/render/render_scene.h"
 #include "apps/render/scene_file.h"
+#include "core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -29,20 +30,26 @@ fs::path writeVolumes() {
     std::vector<float> slab(4 * 4 * 40, 1.0f);
     std::ofstream(dir / "slab.raw", std::ios::binary)
         .write(reinterpret_cast<const char*>(slab.data()), slab.size() * 4);
+    // Half the bytes a 4×4×40 float volume needs: loads fail (the scene file only checks that
+    // the file exists).
+    for (const char* name : {"short.raw", "short2.raw"})
+        std::ofstream(dir / name, std::ios::binary)
+            .write(reinterpret_cast<const char*>(slab.data()), slab.size() * 2);
     return dir;
 }
 
 const double kLightIntensity = 1e12;  // at z = 1e6: I/d² = 1 at the origin
 
-std::string slabObject(double alpha, double kd, const std::string& colour, double dz) {
+std::string slabObject(double alpha, double kd, const std::string& colour, double dz,
+                       const std::string& file = "slab.raw") {
     char buf[768];
     std::snprintf(buf, sizeof buf,
-                  R"({"kind": "volume", "source": {"path": "slab.raw", "dims": [4, 4, 40],
+                  R"({"kind": "volume", "source": {"path": "%s", "dims": [4, 4, 40],
                      "type": "float32"}, "transform": {"translate": [0, 0, %g]},
                      "transfer_function": {"points": [{"value": 0.5, "opacity": 0},
                        {"value": 0.5, "opacity": %g, "color": %s}]},
                      "brdf": {"model": "lambert", "kd": 0}, "kd": %g})",
-                  dz, alpha, colour.c_str(), kd);
+                  file.c_str(), dz, alpha, colour.c_str(), kd);
     return buf;
 }
 
@@ -131,6 +138,28 @@ TEST(Hybrid, ShadingRouletteIsUnbiased) {
     RenderScene(small, false).render(options, &stats);
     EXPECT_GT(stats.volumeSamples, 0);
     EXPECT_LT(stats.volumeShaded, stats.volumeSamples / 2);
+}
+
+// Sources load in parallel (render_scene.cpp, loadSources), but a failure is reported once, for
+// the first failing object in scene order, with its index and the file's own message.
+TEST(Hybrid, LoadFailureNamesTheFirstFailingObject) {
+    auto errorOf = [](const std::vector<std::string>& objects) {
+        try {
+            RenderScene scene(sceneOf(objects, 0.1, 0.0), false);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string good = slabObject(0.01, 0.5, "[1, 1, 1]", 0);
+    const std::string bad = slabObject(0.01, 0.5, "[1, 1, 1]", 0, "short.raw");
+    const std::string bad2 = slabObject(0.01, 0.5, "[1, 1, 1]", 0, "short2.raw");
+    for (int run = 0; run < 20; ++run) {  // whichever load finishes first
+        const std::string e = errorOf({good, bad, good, bad2, bad});
+        EXPECT_NE(e.find("objects[1]"), std::string::npos) << e;
+        EXPECT_NE(e.find("short.raw"), std::string::npos) << e;
+    }
+    EXPECT_EQ(errorOf({good, good}), "no error");
 }
 
 }  // namespace lobe
