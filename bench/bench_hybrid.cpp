@@ -77,6 +77,9 @@ SceneSpec brainScene(int size) {
     spec.backdrop.enabled = false;
     spec.width = spec.height = size;
     spec.samplesPerPixel = 1;
+    // Every sample shaded: this bench measures the step's error, and the shading roulette's
+    // noise (one draw per ray at 1 spp) would hide it; lobe_bench_scene measures the roulette.
+    spec.shadingRoulette = 0.0;
     // The paper camera frames the whole head; the brain fills the middle of the view. Render
     // only that square (same camera, same rays as the full frame at 1/0.52 of the size).
     spec.crop = CropWindow{0.24, 0.14, 0.76, 0.66};
