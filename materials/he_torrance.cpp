@@ -107,6 +107,89 @@ double logSeriesTerm(double m, double g, double lnG, double a) {
            std::log(m) - a / m;
 }
 
+// The walk up from the peak (the peak's own term included), terms relative to T_peak = 1:
+// T_{m+1} = T_m · g·m/(m+1)² · e^{x_m}. Where the step x_{m+1} − x_m = −2a/(m(m+1)(m+2)) is not
+// small (small m, large a) each term takes a fresh exp; from there on, since the steps only
+// shrink as m grows, blocks. Returns the sum of the terms the doc's rule keeps.
+double sumUpFromPeak(double peak, double g, double a) {
+    const double twoA = 2.0 * a;
+    double sum = 0.0, m = peak, t = 1.0;
+    while (twoA / (m * (m + 1.0) * (m + 2.0)) > kSmallStep) {
+        sum += t;
+        if ((m > g && t < kSeriesTolerance * sum) || m > 1e9) return sum;
+        const double invM1 = 1.0 / (m + 1.0);
+        t *= g * m * invM1 * invM1 * std::exp(a / m * invM1);
+        m += 1.0;
+    }
+    for (;;) {
+        double e = std::exp(a * (1.0 / m) * (1.0 / (m + 1.0)));  // e^{x_m}, fresh
+        for (int block = 0; block < kResync / kBlock; ++block) {
+            // Term k of the block is T_{m+k}: ratio[k]·e^{x_{m+k}} = T_{m+k+1}/T_{m+k},
+            // factor[k] = e^{x_{m+k+1} − x_{m+k}}.
+            double inv[kBlock + 2], ratio[kBlock], factor[kBlock];
+            for (int k = 0; k < kBlock + 2; ++k) inv[k] = 1.0 / (m + k);
+            for (int k = 0; k < kBlock; ++k) {
+                ratio[k] = g * (m + k) * inv[k + 1] * inv[k + 1];
+                factor[k] = expSmall(-twoA * inv[k] * inv[k + 1] * inv[k + 2]);
+            }
+            for (int k = 0; k < kBlock; ++k) {
+                sum += t;
+                if (m + k > g && t < kSeriesTolerance * sum) return sum;
+                t *= ratio[k] * e;
+                e *= factor[k];
+            }
+            m += kBlock;
+            if (m > 1e9) return sum;  // unreachable for the parameter ranges; a guard
+        }
+    }
+}
+
+// The walk down from the peak, adding to `sum` (the up walk's, which the stopping rule is
+// relative to): T_m = T_{m+1} · (m+1)²/(g·m) · e^{−x_m}. The steps
+// −(x_{m−1} − x_m) = −2a/((m−1)m(m+1)) grow as m falls: blocks while they are small (m ≥
+// mSmall), then a fresh exp per term. Returns the new sum.
+double addDownFromPeak(double peak, double g, double a, double sum) {
+    if (!(peak > 1.0)) return sum;
+    const double twoA = 2.0 * a;
+    const double invG = 1.0 / g;
+    double m = peak - 1.0, t = 1.0;  // the next term is T_m; t = T_{m+1}
+    double mSmall = std::max(2.0, std::floor(std::cbrt(twoA / kSmallStep)));
+    while (mSmall > 2.0 && twoA / ((mSmall - 2.0) * (mSmall - 1.0) * mSmall) <= kSmallStep)
+        mSmall -= 1.0;
+    while (twoA / ((mSmall - 1.0) * mSmall * (mSmall + 1.0)) > kSmallStep) mSmall += 1.0;
+    while (m >= mSmall) {
+        double e = std::exp(-a * (1.0 / m) * (1.0 / (m + 1.0)));  // e^{−x_m}, fresh
+        for (int done = 0; done < kResync && m >= mSmall;) {
+            // Term k of the block is T_{m−k} = T_{m−k+1}·ratio[k]·e^{−x_{m−k}};
+            // factor[k] = e^{−(x_{m−k−1} − x_{m−k})}. inv[j] = 1/(m + 1 − j) ≥ 1/(mSmall − 1).
+            const int n = static_cast<int>(std::min({static_cast<double>(kBlock),
+                                                     static_cast<double>(kResync - done),
+                                                     m - mSmall + 1.0}));
+            double inv[kBlock + 2], ratio[kBlock], factor[kBlock];
+            for (int k = 0; k < n + 2; ++k) inv[k] = 1.0 / (m + 1.0 - k);
+            for (int k = 0; k < n; ++k) {
+                ratio[k] = (m + 1.0 - k) * (m + 1.0 - k) * invG * inv[k + 1];
+                factor[k] = expSmall(-twoA * inv[k + 2] * inv[k + 1] * inv[k]);
+            }
+            for (int k = 0; k < n; ++k) {
+                t *= ratio[k] * e;
+                sum += t;
+                if (t < kSeriesTolerance * sum) return sum;
+                e *= factor[k];
+            }
+            m -= n;
+            done += n;
+        }
+    }
+    for (; m >= 1.0; m -= 1.0) {
+        const double invM = 1.0 / m;
+        t *= (m + 1.0) * (m + 1.0) * invG * invM * std::exp(-a * invM / (m + 1.0));
+        sum += t;
+        if (t < kSeriesTolerance * sum || m <= 1.0) break;
+    }
+    return sum;
+}
+
 }  // namespace
 
 double HeTorrance::distributionD(double g, double vxy2, double tau) {
@@ -161,84 +244,9 @@ double HeTorrance::distributionD(double g, double vxy2, double tau) {
         peak += 1.0;
     const double logPeak = logSeriesTerm(peak, g, lnG, a);
 
-    // Up from the peak (the peak's own term included): T_{m+1} = T_m · g·m/(m+1)² · e^{x_m}.
-    // Where the step x_{m+1} − x_m = −2a/(m(m+1)(m+2)) is not small (small m, large a) each term
-    // takes a fresh exp; from there on, since the steps only shrink as m grows, blocks.
-    const double twoA = 2.0 * a;
-    double sum = 0.0;
-    {
-        double m = peak, t = 1.0;
-        while (twoA / (m * (m + 1.0) * (m + 2.0)) > kSmallStep) {
-            sum += t;
-            if ((m > g && t < kSeriesTolerance * sum) || m > 1e9) goto upDone;
-            const double invM1 = 1.0 / (m + 1.0);
-            t *= g * m * invM1 * invM1 * std::exp(a / m * invM1);
-            m += 1.0;
-        }
-        for (;;) {
-            double e = std::exp(a * (1.0 / m) * (1.0 / (m + 1.0)));  // e^{x_m}, fresh
-            for (int block = 0; block < kResync / kBlock; ++block) {
-                // Term k of the block is T_{m+k}: ratio[k]·e^{x_{m+k}} = T_{m+k+1}/T_{m+k},
-                // factor[k] = e^{x_{m+k+1} − x_{m+k}}.
-                double inv[kBlock + 2], ratio[kBlock], factor[kBlock];
-                for (int k = 0; k < kBlock + 2; ++k) inv[k] = 1.0 / (m + k);
-                for (int k = 0; k < kBlock; ++k) {
-                    ratio[k] = g * (m + k) * inv[k + 1] * inv[k + 1];
-                    factor[k] = expSmall(-twoA * inv[k] * inv[k + 1] * inv[k + 2]);
-                }
-                for (int k = 0; k < kBlock; ++k) {
-                    sum += t;
-                    if (m + k > g && t < kSeriesTolerance * sum) goto upDone;
-                    t *= ratio[k] * e;
-                    e *= factor[k];
-                }
-                m += kBlock;
-                if (m > 1e9) goto upDone;  // unreachable for the parameter ranges; a guard
-            }
-        }
-    upDone:;
-    }
-    // Down from the peak: T_m = T_{m+1} · (m+1)²/(g·m) · e^{−x_m}. The steps
-    // −(x_{m−1} − x_m) = −2a/((m−1)m(m+1)) grow as m falls: blocks while they are small (m ≥
-    // mSmall), then a fresh exp per term.
-    if (peak > 1.0) {
-        const double invG = 1.0 / g;
-        double m = peak - 1.0, t = 1.0;  // the next term is T_m; t = T_{m+1}
-        double mSmall = std::max(2.0, std::floor(std::cbrt(twoA / kSmallStep)));
-        while (mSmall > 2.0 && twoA / ((mSmall - 2.0) * (mSmall - 1.0) * mSmall) <= kSmallStep)
-            mSmall -= 1.0;
-        while (twoA / ((mSmall - 1.0) * mSmall * (mSmall + 1.0)) > kSmallStep) mSmall += 1.0;
-        while (m >= mSmall) {
-            double e = std::exp(-a * (1.0 / m) * (1.0 / (m + 1.0)));  // e^{−x_m}, fresh
-            for (int done = 0; done < kResync && m >= mSmall;) {
-                // Term k of the block is T_{m−k} = T_{m−k+1}·ratio[k]·e^{−x_{m−k}};
-                // factor[k] = e^{−(x_{m−k−1} − x_{m−k})}. inv[j] = 1/(m + 1 − j) ≥ 1/(mSmall − 1).
-                const int n = static_cast<int>(std::min(
-                    {static_cast<double>(kBlock), static_cast<double>(kResync - done), m - mSmall + 1.0}));
-                double inv[kBlock + 2], ratio[kBlock], factor[kBlock];
-                for (int k = 0; k < n + 2; ++k) inv[k] = 1.0 / (m + 1.0 - k);
-                for (int k = 0; k < n; ++k) {
-                    ratio[k] = (m + 1.0 - k) * (m + 1.0 - k) * invG * inv[k + 1];
-                    factor[k] = expSmall(-twoA * inv[k + 2] * inv[k + 1] * inv[k]);
-                }
-                for (int k = 0; k < n; ++k) {
-                    t *= ratio[k] * e;
-                    sum += t;
-                    if (t < kSeriesTolerance * sum) goto downDone;
-                    e *= factor[k];
-                }
-                m -= n;
-                done += n;
-            }
-        }
-        for (; m >= 1.0; m -= 1.0) {
-            const double invM = 1.0 / m;
-            t *= (m + 1.0) * (m + 1.0) * invG * invM * std::exp(-a * invM / (m + 1.0));
-            sum += t;
-            if (t < kSeriesTolerance * sum || m <= 1.0) break;
-        }
-    downDone:;
-    }
+    // The two walks from the peak (terms relative to T_peak = 1), in the order the stopping rule
+    // sees them: up first, then down relative to the whole sum.
+    const double sum = addDownFromPeak(peak, g, a, sumUpFromPeak(peak, g, a));
     return kPi * kPi * tau * tau / 4.0 * std::exp(logPeak) * sum;
 }
 
