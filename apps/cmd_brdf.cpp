@@ -4,7 +4,7 @@
 #include "apps/commands.h"
 #include "core/error.h"
 #include "core/tile_scheduler.h"
-#include "materials/properties.h"
+#include "analysis/properties.h"
 #include "materials/registry.h"
 
 #include <CLI/CLI.hpp>

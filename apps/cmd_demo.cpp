@@ -3,9 +3,9 @@
 // assets/ — and the BRDF gallery into --out, as EXR and PNG. The default size (512², 4 spp)
 // keeps a first run short; --size 1024 --spp 8 gives the paper's settings.
 #include "apps/commands.h"
-#include "apps/gallery.h"
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/gallery.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/error.h"
 #include "core/image_output.h"
 

@@ -1,6 +1,6 @@
 // `lobe gallery` renders the BRDF gallery (the nine models on spheres).
 #include "apps/commands.h"
-#include "apps/gallery.h"
+#include "render/gallery.h"
 #include "core/error.h"
 #include "core/image_output.h"
 

@@ -4,8 +4,8 @@
 // overlap-heatmap.png and lobes/<a>_vs_<b>.png into --out. `--study` instead runs the convergence
 // study (lattice size × samples per pixel against the largest of both) and writes study.md.
 #include "apps/commands.h"
-#include "apps/overlap/overlap_report.h"
-#include "apps/overlap/standard_test.h"
+#include "analysis/overlap_report.h"
+#include "analysis/overlap_ranking.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "materials/registry.h"

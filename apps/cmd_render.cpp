@@ -3,9 +3,9 @@
 // typo in the 20th file is reported before hours of rendering), renders them one after another
 // with one progress display over the whole batch, and writes a contact sheet per scene group.
 #include "apps/commands.h"
-#include "apps/render/contact_sheet.h"
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "apps/contact_sheet.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/progress.h"

@@ -1,5 +1,5 @@
 // lobe_bench_hybrid: direct volume rendering of the paper scene's brain objects through the
-// hybrid renderer (apps/render/render_scene.h) — time against error for steps of 0.05, 0.1,
+// hybrid renderer (render/render_scene.h) — time against error for steps of 0.05, 0.1,
 // 0.25, 0.5 and 1 voxel, with and without empty-space skipping, against a 0.02-voxel reference;
 // lattice points per second; peak memory. (bench/bench_dvr.cpp measures the bare marcher on the
 // density maps alone; this one runs the real objects with their BRDFs, as `lobe render` does.)
@@ -26,8 +26,8 @@
 // Usage: lobe_bench_hybrid [--size N (128)] [--threads N (2)] [--reps N (2: best of)]
 //                          [--out DIR: EXR images of the reference and each step]
 // Output: a Markdown report on stdout.
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/error.h"
 #include "core/image_output.h"
 

@@ -14,8 +14,8 @@
 //     surfaces and no volumes (what is left: camera rays, backdrop, scheduling).
 // Output: a Markdown report on stdout. Checks before reporting: images finite, the scene covers
 // a plausible part of the image (not just backdrop).
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/tile_scheduler.h"

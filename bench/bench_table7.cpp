@@ -26,8 +26,8 @@
 // samples); each model adds light over the Lambert-only image (its BRDF is really evaluated);
 // the collected pairs give a positive number of evaluations per ray.
 // Output: a Markdown report on stdout.
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/frame.h"
@@ -121,7 +121,7 @@ DirectionSample collectDirections(const SceneSpec& spec, int stride) {
     SurfaceScene surfaces;
     surfaces.add(std::make_shared<IsoExactSurface>(*volume.grid, object.iso, object.name));
     surfaces.commit();
-    // The tangent field as apps/render/render_scene.cpp (worldAxes) builds it, identity transform.
+    // The tangent field as render/render_scene.cpp (worldAxes) builds it, identity transform.
     const Vec3 axis = normalized(object.tangentAxis);
     const Vec3 fallback = std::abs(axis.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
     const PinholeCamera camera(spec.cameraPosition, spec.cameraTarget, spec.cameraUp,

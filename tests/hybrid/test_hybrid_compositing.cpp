@@ -1,4 +1,4 @@
-// The hybrid integrator (apps/render/render_scene.h) against closed forms: a tilted translucent
+// The hybrid integrator (render/render_scene.h) against closed forms: a tilted translucent
 // plane inside, in front of and behind an emitting/absorbing slab; two overlapping slabs of
 // different extinction and colour; the skull's 0.97 opacity; thread-count invariance of render().
 // (tests/render/test_hybrid.cpp covers level planes with equal-extinction slabs; these cases add
@@ -25,8 +25,8 @@
 //    f = iso lies at z_p = iso − 120 − 2.125. Its normal is ∝ (0.75, 0, 1), so with the light
 //    straight above cos θ = 1/√(1 + 0.75²) = 0.8 and a Lambert surface of colour c_s sends
 //    L_s = c_s · kd_s/π · 0.8 · E(z_p); composited with opacity o (Porter & Duff "over").
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 
 #include <gtest/gtest.h>
 

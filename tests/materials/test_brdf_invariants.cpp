@@ -9,10 +9,10 @@
 //    exponents, roughnesses, metals);
 //  * reciprocity where the definition implies it, and non-reciprocity where it implies that;
 //  * the directional albedo: finite and ≥ 0 over θi up to 89°, and the importance-sampled
-//    estimator (materials/properties.cpp) agrees with plain uniform-hemisphere sampling.
+//    estimator (analysis/properties.cpp) agrees with plain uniform-hemisphere sampling.
 // Slow models (Poulin–Fournier) run sampleScale(model) times the pairs (properties.cpp).
 #include "core/rng.h"
-#include "materials/properties.h"
+#include "analysis/properties.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>

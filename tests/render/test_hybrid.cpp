@@ -8,8 +8,8 @@
 // z ∈ [−0.5, 39.5] (the trilinear value crosses 0.5 half a voxel beyond the last centre); a copy
 // shifted up by 20 overlaps it. One light far up the z axis with I/d² = 1 at the origin, so a
 // sample with no normal (zero gradient) sends colour·kd/π.
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/error.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "apps/render/scene_file.h"
+#include "render/scene_file.h"
 
 #include "core/error.h"
 

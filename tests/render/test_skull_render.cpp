@@ -7,8 +7,8 @@
 // (110, 131, 116) (shared/docs/paper-scene.md), and the central ray crosses the bone there (the
 // lateral skull wall in front of the centre along a 45° front-side view). The check compares
 // against the same view with the skull made fully transparent, so a miss (centre = backdrop exactly) fails.
-#include "apps/render/render_scene.h"
-#include "apps/render/scene_file.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 #include "core/error.h"
 
 #include <gtest/gtest.h>

@@ -9,7 +9,7 @@
 // (seed, x, y, sample), so the lattices and the ranking are the same for any thread count.
 #pragma once
 
-#include "apps/overlap/flux_overlap.h"
+#include "analysis/flux_overlap.h"
 
 #include <array>
 #include <cstdint>

@@ -1,5 +1,5 @@
 // The flux-overlap standard test: lattices, pair scores, ranking (shared/docs/flux-overlap.md).
-#include "apps/overlap/standard_test.h"
+#include "analysis/overlap_ranking.h"
 
 #include "core/camera.h"
 #include "core/error.h"

@@ -1,6 +1,6 @@
 // What a scene file says, validated and with paths resolved, before anything is loaded: camera,
 // lights, backdrop, objects (iso-surfaces and volumes, each with its own BRDF), image and sampling
-// settings. apps/render/scene_file.h reads it from JSON; apps/render/render_scene.h builds it.
+// settings. render/scene_file.h reads it from JSON; render/render_scene.h builds it.
 #pragma once
 
 #include "core/camera.h"

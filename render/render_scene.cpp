@@ -1,4 +1,4 @@
-#include "apps/render/render_scene.h"
+#include "render/render_scene.h"
 
 #include "core/error.h"
 #include "core/progress.h"

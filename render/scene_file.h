@@ -3,7 +3,7 @@
 // expected. The format is documented in docs/scene-format.md.
 #pragma once
 
-#include "apps/render/scene_description.h"
+#include "render/scene_description.h"
 
 #include <string>
 

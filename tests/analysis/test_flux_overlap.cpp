@@ -1,7 +1,7 @@
 // The total flux overlap metric (shared/docs/flux-overlap.md) on small hand-made lattices that
 // exercise every branch: A only, B only, both with Φa > Φb and Φb > Φa, both equal, below the
 // threshold, and an empty area.
-#include "apps/overlap/flux_overlap.h"
+#include "analysis/flux_overlap.h"
 
 #include "core/error.h"
 

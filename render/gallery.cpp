@@ -1,4 +1,4 @@
-#include "apps/gallery.h"
+#include "render/gallery.h"
 
 #include "core/camera.h"
 #include "core/error.h"

@@ -14,8 +14,8 @@
 // through a translucent shell sees its inner side.
 #pragma once
 
-#include "apps/render/backdrop.h"
-#include "apps/render/scene_description.h"
+#include "render/backdrop.h"
+#include "render/scene_description.h"
 #include "core/camera.h"
 #include "core/film.h"
 

@@ -1,4 +1,4 @@
-#include "apps/render/backdrop.h"
+#include "render/backdrop.h"
 
 #include "core/rng.h"
 

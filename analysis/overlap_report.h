@@ -5,7 +5,7 @@
 // partial file.
 #pragma once
 
-#include "apps/overlap/standard_test.h"
+#include "analysis/overlap_ranking.h"
 #include "core/rgb_image.h"
 
 #include <string>

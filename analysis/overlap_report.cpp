@@ -1,6 +1,6 @@
 // Reports of the flux-overlap test: CSV, Markdown, heat map, lobe images (flux-overlap.md,
 // "What the tool reports"; the paper's Figures 7–9).
-#include "apps/overlap/overlap_report.h"
+#include "analysis/overlap_report.h"
 
 #include "core/error.h"
 #include "core/image_output.h"

@@ -3,7 +3,7 @@
 // construction, the isotropic limits, determinism across thread counts, and the transcription of
 // the paper's Table 1.
 #include "core/tile_scheduler.h"
-#include "materials/properties.h"
+#include "analysis/properties.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>

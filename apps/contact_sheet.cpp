@@ -1,4 +1,4 @@
-#include "apps/render/contact_sheet.h"
+#include "apps/contact_sheet.h"
 
 #include "core/image_text.h"
 

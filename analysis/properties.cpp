@@ -1,5 +1,5 @@
 // Measured properties of the reflection models; see properties.h for what is measured and how.
-#include "materials/properties.h"
+#include "analysis/properties.h"
 
 #include "core/error.h"
 #include "core/frame.h"

@@ -1,4 +1,4 @@
-#include "apps/gallery.h"
+#include "render/gallery.h"
 
 #include "core/error.h"
 #include "core/math.h"

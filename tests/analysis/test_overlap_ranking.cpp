@@ -1,7 +1,7 @@
 // The flux-overlap standard test: a hand-computed pixel, determinism over thread counts, the
 // ranking with ties, Kendall's tau, input validation, and the report files.
-#include "apps/overlap/overlap_report.h"
-#include "apps/overlap/standard_test.h"
+#include "analysis/overlap_report.h"
+#include "analysis/overlap_ranking.h"
 
 #include "core/error.h"
 #include "materials/registry.h"
