@@ -26,13 +26,14 @@ namespace {
 namespace fs = std::filesystem;
 using Bytes = std::vector<unsigned char>;
 
+// One folder per test: ctest runs the tests of this file as parallel processes, and a test that
+// checks its folder for leftover temporaries must not see another test's files being written.
 fs::path tempDir() {
-    static const fs::path dir = [] {
-        fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "volume";
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "volume" /
+                 (std::string(info->test_suite_name()) + "." + info->name());
+    fs::create_directories(d);
+    return d;
 }
 
 std::string writeFile(const std::string& name, const Bytes& bytes) {
