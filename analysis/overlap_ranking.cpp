@@ -6,9 +6,7 @@
 #include "core/frame.h"
 #include "core/light.h"
 #include "core/progress.h"
-#include "core/rng.h"
-#include "core/sampling.h"
-#include "core/tile_scheduler.h"
+#include "core/pixel_loop.h"
 #include "materials/registry.h"
 #include "surface/implicit_primitives.h"
 
@@ -27,7 +25,6 @@ const std::array<const char*, kStandardPrimitiveCount> kStandardPrimitiveNames =
 
 namespace {
 
-constexpr int kTileSize = 32;
 constexpr int kMaxSize = 8192;
 constexpr int kMaxSamples = 4096;
 
@@ -91,68 +88,46 @@ LatticeSet renderStandardLattices(const StandardTestOptions& options) {
     const PinholeCamera camera(Vec3(0, 0, 4), Vec3(0, 0, 0), Vec3(0, 1, 0), 40.0, 1.0);
     const int size = options.size;
     const int spp = options.samplesPerPixel;
-    const StrataGrid grid = strataFor(spp);
+    std::vector<PointLight> lights;
+    for (const Vec3& position : kLightPositions) lights.push_back({position, Spectrum(1.0)});
 
-    struct Task {
-        int primitive;
-        int x0, y0, x1, y1;
-    };
-    std::vector<Task> tasks;
-    for (int p = 0; p < kStandardPrimitiveCount; ++p)
-        for (int y = 0; y < size; y += kTileSize)
-            for (int x = 0; x < size; x += kTileSize)
-                tasks.push_back(
-                    {p, x, y, std::min(x + kTileSize, size), std::min(y + kTileSize, size)});
-
-    ProgressReporter progress("overlap lattices", int64_t(tasks.size()), options.progress);
-    runWithThreads(options.threads, [&] {
-        tbb::parallel_for(
-            tbb::blocked_range<size_t>(0, tasks.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-                setFlushToZero();
-                std::vector<Spectrum> acc(modelCount);
-                for (size_t ti = r.begin(); ti != r.end(); ++ti) {
-                    const Task& task = tasks[ti];
-                    const ImplicitPrimitive& prim = primitives[task.primitive];
-                    for (int y = task.y0; y < task.y1; ++y)
-                        for (int x = task.x0; x < task.x1; ++x) {
-                            std::fill(acc.begin(), acc.end(), Spectrum(0.0));
-                            for (int s = 0; s < spp; ++s) {
-                                Rng rng = pixelSampleRng(options.seed, uint32_t(x), uint32_t(y),
-                                                         uint32_t(s));
-                                const Vec2 j = jitteredSample(grid, s, rng);
-                                const Ray ray =
-                                    camera.generateRay((x + j.x) / size, (y + j.y) / size);
-                                ImplicitHit hit;
-                                if (!prim.intersect(ray, hit)) continue;  // a miss is 0
-                                // flux-overlap.md, "Tangent field": a = world y, or world x
-                                // where |a × n| < 1e-3.
-                                const Frame frame = Frame::fromNormalAndAxis(
-                                    hit.n, Vec3(0, 1, 0), Vec3(1, 0, 0), 1e-3);
-                                const Vec3 wo = frame.toLocal(-ray.d);
-                                if (wo.z <= 0.0) continue;  // f_s = 0 (brdf-models.md)
-                                for (const Vec3& lightPos : kLightPositions) {
-                                    const Vec3 toLight = lightPos - hit.p;
-                                    const double d2 = toLight.length2();
-                                    const Vec3 wi = frame.toLocal(toLight / std::sqrt(d2));
-                                    if (wi.z <= 0.0) continue;  // light below the surface
-                                    // I/d² · cos θi with I = 1 (eq. 1.20 for a point light)
-                                    const double weight = wi.z / d2;
-                                    for (int m = 0; m < modelCount; ++m)
-                                        acc[m] += evalBrdf(brdfs[m], wi, wo) * weight;
-                                }
-                            }
-                            const size_t pixel = size_t(y) * size + x;
-                            for (int m = 0; m < modelCount; ++m)
-                                for (int band = 0; band < 3; ++band) {
-                                    const double v = acc[m][band] / spp;
-                                    set.lattice(m, task.primitive, band)[pixel] =
-                                        std::isfinite(v) ? float(v) : 0.0f;
-                                }
-                        }
-                    progress.advance();
-                }
+    // One image per primitive through the pixel loop; every sample's specular radiance is
+    // accumulated for all models at once from one ray, hit and frame.
+    ProgressReporter progress("overlap lattices",
+                              int64_t(kStandardPrimitiveCount) * size * size, options.progress);
+    SchedulerOptions scheduler;
+    scheduler.threads = options.threads;
+    scheduler.sharedProgress = &progress;
+    const PixelSampling sampling{spp, options.seed};
+    for (int p = 0; p < kStandardPrimitiveCount; ++p) {
+        const ImplicitPrimitive& prim = primitives[size_t(p)];
+        forEachPixel(size, size, sampling, scheduler, [&](const PixelSamples& samples) {
+            const int x = samples.x(), y = samples.y();
+            std::vector<Spectrum> acc(size_t(modelCount), Spectrum(0.0));
+            samples.forEach([&](const Vec2& j, Rng&) {
+                const Ray ray = camera.generateRay((x + j.x) / size, (y + j.y) / size);
+                ImplicitHit hit;
+                if (!prim.intersect(ray, hit)) return;  // a miss is 0
+                // flux-overlap.md, "Tangent field": a = world y, or world x where |a × n| < 1e-3.
+                const Frame frame =
+                    Frame::fromNormalAndAxis(hit.n, Vec3(0, 1, 0), Vec3(1, 0, 0), 1e-3);
+                // f_s · I/d² · cos θi with I = 1 (eq. 1.20 for a point light); nothing where the
+                // viewer or the light is below the surface (brdf-models.md).
+                forEachLightInFrame(lights, frame, hit.p, -ray.d,
+                                    [&](const PointLight&, const Vec3& wi, const Vec3& wo,
+                                        double weight) {
+                                        for (int m = 0; m < modelCount; ++m)
+                                            acc[size_t(m)] += evalBrdf(brdfs[size_t(m)], wi, wo) * weight;
+                                    });
             });
-    });
+            const size_t pixel = size_t(y) * size + x;
+            for (int m = 0; m < modelCount; ++m)
+                for (int band = 0; band < 3; ++band) {
+                    const double v = acc[size_t(m)][band] / spp;
+                    set.lattice(m, p, band)[pixel] = std::isfinite(v) ? float(v) : 0.0f;
+                }
+        });
+    }
     progress.finish();
     return set;
 }

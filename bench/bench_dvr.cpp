@@ -42,6 +42,8 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/tile_scheduler.h"
+#include "render/compositor.h"
+#include "render/shading.h"
 #include "volume/volume_marcher.h"
 
 namespace lobe {

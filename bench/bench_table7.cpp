@@ -28,6 +28,7 @@
 // Output: a Markdown report on stdout.
 #include "render/render_scene.h"
 #include "render/scene_file.h"
+#include "render/shading.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/frame.h"
@@ -133,22 +134,15 @@ DirectionSample collectDirections(const SceneSpec& spec, int stride) {
             const Ray ray = camera.generateRay((x + 0.5) / spec.width, (y + 0.5) / spec.height);
             const auto hit = surfaces.intersect(ray);
             if (!hit) continue;
-            // materials/material.cpp directLighting, two-sided: the frame mirrored to the viewer.
-            Frame frame = Frame::fromNormalAndAxis(hit->normal, axis, fallback);
+            // The directions render/shading.cpp's directLighting evaluates: two-sided, the
+            // frame turned to the viewer, then the one light loop.
             const Vec3 toViewer = -ray.d;
-            if (frame.n.dot(toViewer) < 0.0) {
-                frame.n = -frame.n;
-                frame.b = -frame.b;
-            }
-            const Vec3 wo = frame.toLocal(toViewer);
-            if (!(wo.z > 0.0)) continue;
-            for (const PointLight& light : spec.lights) {
-                const Vec3 toLight = light.position - hit->position;
-                const double d2 = toLight.length2();
-                if (!(d2 > 0.0)) continue;
-                const Vec3 wi = frame.toLocal(toLight / std::sqrt(d2));
-                if (wi.z > 0.0) out.pairs.emplace_back(wi, wo);
-            }
+            const Frame frame =
+                facingViewer(Frame::fromNormalAndAxis(hit->normal, axis, fallback), toViewer);
+            forEachLightInFrame(spec.lights, frame, hit->position, toViewer,
+                                [&](const PointLight&, const Vec3& wi, const Vec3& wo, double) {
+                                    out.pairs.emplace_back(wi, wo);
+                                });
         }
     if (out.pairs.empty()) throw Error("no BRDF evaluations found on the skull");
     return out;

@@ -1,8 +1,16 @@
 // Point ("omni") light of intensity I (W/sr per band): irradiance at distance d is I/d² · cos θ.
+// And the one light loop of Lobe: every place that lights a point — surface hits and volume
+// samples (render/shading.h), the backdrop, the BRDF gallery, the flux-overlap lattices — walks
+// the lights through forEachLight or forEachLightInFrame. No shadows: the paper's renderings
+// have none (shared/docs/paper-scene.md).
 #pragma once
 
+#include "core/frame.h"
 #include "core/math.h"
 #include "core/spectrum.h"
+
+#include <cmath>
+#include <vector>
 
 namespace lobe {
 
@@ -10,5 +18,35 @@ struct PointLight {
     Vec3 position{0.0};
     Spectrum intensity{1.0};
 };
+
+// fn(light, toLight, d²) for every light not at `position`; toLight = light.position − position
+// (not normalised), d² = |toLight|².
+template <class Fn>
+inline void forEachLight(const std::vector<PointLight>& lights, const Vec3& position, Fn&& fn) {
+    for (const PointLight& light : lights) {
+        const Vec3 toLight = light.position - position;
+        const double d2 = toLight.length2();
+        if (!(d2 > 0.0)) continue;
+        fn(light, toLight, d2);
+    }
+}
+
+// The same loop seen from a surface point with shading frame `frame` (n = frame.n): nothing when
+// the viewer is not above the surface (wo.z ≤ 0, where f_s = 0 by shared/docs/brdf-models.md);
+// otherwise fn(light, wi, wo, cos θi / d²) for every light above it, wi and wo the unit directions
+// to the light and to the viewer in the local frame. cos θi / d² is the irradiance per unit
+// intensity (eq. 1.20 of the paper for a point light), so the reflected radiance of a BRDF f is
+// Σ f(wi, wo) · I · cos θi / d² (brdf-models.md, "Conventions").
+template <class Fn>
+inline void forEachLightInFrame(const std::vector<PointLight>& lights, const Frame& frame,
+                                const Vec3& position, const Vec3& toViewer, Fn&& fn) {
+    const Vec3 wo = frame.toLocal(toViewer);
+    if (!(wo.z > 0.0)) return;
+    forEachLight(lights, position, [&](const PointLight& light, const Vec3& toLight, double d2) {
+        const Vec3 wi = frame.toLocal(toLight / std::sqrt(d2));
+        if (!(wi.z > 0.0)) return;
+        fn(light, wi, wo, wi.z / d2);
+    });
+}
 
 }  // namespace lobe

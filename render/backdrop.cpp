@@ -77,13 +77,10 @@ Spectrum Backdrop::radiance(const Vec3& p, const std::vector<PointLight>& lights
     const Spectrum colour = textureAt((d.dot(right_) + halfExtent_) * scale,
                                       (halfExtent_ - d.dot(up_)) * scale);
     Spectrum light;
-    for (const PointLight& l : lights) {
-        const Vec3 toLight = l.position - p;
-        const double d2 = toLight.length2();
-        if (!(d2 > 0.0)) continue;
+    forEachLight(lights, p, [&](const PointLight& l, const Vec3& toLight, double d2) {
         const double cosine = std::max(0.0, normal_.dot(toLight) / std::sqrt(d2));
         light += l.intensity * ((settings_.ambient + settings_.diffuse * cosine) / d2);
-    }
+    });
     return colour * light * kInvPi;
 }
 

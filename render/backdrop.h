@@ -9,7 +9,7 @@
 // in the world and a close-up (crop window) shows the same backdrop magnified.
 // Radiance = colour/π · (ambient · Σ_lights I/d² + diffuse · Σ_lights max(0, n·l) · I/d²): the
 // paper's classic ambient + diffuse terms in the objects' units (their Lambertian term is kd/π,
-// materials/material.h), with the ambient light scaled by the lights' irradiance so that the
+// render/shading.h), with the ambient light scaled by the lights' irradiance so that the
 // backdrop keeps the paper's brightness relative to the objects whatever the light intensities.
 #pragma once
 

@@ -3,11 +3,9 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/image_text.h"
-#include "core/rng.h"
-#include "core/sampling.h"
-#include "core/tile_scheduler.h"
-#include "materials/material.h"
+#include "core/pixel_loop.h"
 #include "materials/registry.h"
+#include "render/shading.h"
 
 #include <map>
 
@@ -70,38 +68,29 @@ Gallery renderGallery(const GalleryOptions& options) {
         {Vec3(3, 2, 3), Spectrum(options.lightIntensity)},
         {Vec3(0, -3, 2.5), Spectrum(options.lightIntensity)},
     };
-    const StrataGrid strata = strataFor(options.samplesPerPixel);
-    const double invSpp = 1.0 / options.samplesPerPixel;
     const int cell = options.cellSize;
 
     SchedulerOptions scheduler;
     scheduler.threads = options.threads;
     scheduler.progress = options.progress;
     scheduler.label = "gallery";
-    forEachTile(gallery.film.width(), gallery.film.height(), scheduler, [&](const Tile& tile) {
-        for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) {
-                const size_t index = size_t(y / cell) * gallery.columns + x / cell;
-                Spectrum sum;
-                for (int s = 0; s < options.samplesPerPixel; ++s) {
-                    Rng rng = pixelSampleRng(options.seed, x, y, s);
-                    const Vec2 j = jitteredSample(strata, s, rng);
-                    const double u = (x % cell + j.x) / cell, v = (y % cell + j.y) / cell;
-                    if (index >= materials.size()) continue;
-                    const Ray ray = camera.generateRay(u, v);
-                    const double t = intersectUnitSphere(ray);
-                    if (t < 0.0) {
-                        sum += Spectrum(0.02 + 0.03 * (1.0 - v));  // dim gradient backdrop
-                        continue;
-                    }
-                    const Vec3 p = ray.at(t);
-                    const Vec3 n = normalized(p);
-                    // Tangent field of the flux-overlap test: world y projected, world x fallback.
-                    const Frame frame = Frame::fromNormalAndAxis(n, Vec3(0, 1, 0), Vec3(1, 0, 0));
-                    sum += directLighting(materials[index], frame, p, -ray.d, lights);
-                }
-                gallery.film.at(x, y) = sum * invSpp;
-            }
+    const PixelSampling sampling{options.samplesPerPixel, options.seed};
+    forEachPixel(gallery.film.width(), gallery.film.height(), sampling, scheduler,
+                 [&](const PixelSamples& samples) {
+        const int x = samples.x(), y = samples.y();
+        const size_t index = size_t(y / cell) * gallery.columns + x / cell;
+        gallery.film.at(x, y) = samples.mean([&](const Vec2& j, Rng&) {
+            if (index >= materials.size()) return Spectrum(0.0);
+            const double u = (x % cell + j.x) / cell, v = (y % cell + j.y) / cell;
+            const Ray ray = camera.generateRay(u, v);
+            const double t = intersectUnitSphere(ray);
+            if (t < 0.0) return Spectrum(0.02 + 0.03 * (1.0 - v));  // dim gradient backdrop
+            const Vec3 p = ray.at(t);
+            const Vec3 n = normalized(p);
+            // Tangent field of the flux-overlap test: world y projected, world x fallback.
+            const Frame frame = Frame::fromNormalAndAxis(n, Vec3(0, 1, 0), Vec3(1, 0, 0));
+            return directLighting(materials[index], frame, p, -ray.d, lights);
+        });
     });
     return gallery;
 }

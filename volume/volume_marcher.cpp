@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/frame.h"
 
 namespace lobe {
 
@@ -278,23 +277,6 @@ void VolumeRaySampler::addNormal(VolumeSample& s) {
     const double gLen = s.gradient.length();
     s.hasNormal = gLen * geo.referenceVoxelLength() >= set.minGradientPerVoxel && gLen > 0.0;
     s.normal = s.hasNormal ? -s.gradient / gLen : Vec3(0, 0, 1);
-}
-
-Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
-                           const Vec3& toViewer, const std::vector<PointLight>& lights,
-                           const Vec3& tangentAxis, const Vec3& fallbackAxis) {
-    if (sample.hasNormal) {
-        const Frame frame = Frame::fromNormalAndAxis(sample.normal, tangentAxis, fallbackAxis);
-        return sample.colour *
-               directLighting(material, frame, sample.position, toViewer, lights, true);
-    }
-    // No usable normal: Lambert with cos θ = 1 (header, "Normals").
-    Spectrum radiance;
-    for (const PointLight& light : lights) {
-        const double d2 = (light.position - sample.position).length2();
-        if (d2 > 0.0) radiance += material.kd * kInvPi * light.intensity * (1.0 / d2);
-    }
-    return sample.colour * radiance;
 }
 
 }  // namespace lobe

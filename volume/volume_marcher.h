@@ -1,8 +1,9 @@
 // Ray marching of one DVR volume object: samples front to back along a world ray at a fixed step
-// in voxels, with a jittered start, empty-space skipping through a min/max brick grid that knows
-// the transfer function's transparent ranges, and a front-to-back compositor with early ray
-// termination. The hybrid integrator (apps/render) interleaves several volumes and surfaces by
-// depth with VolumeRaySampler::next(tEnd, sample).
+// in voxels, with a jittered start and empty-space skipping through a min/max brick grid that
+// knows the transfer function's transparent ranges. It yields samples (position, value, opacity,
+// colour; the gradient on request) and never shades them: the integrator (render/integrator.h)
+// interleaves several volumes and surfaces by depth with VolumeRaySampler::next(tEnd, sample),
+// lights the samples (render/shading.h) and composites them (render/compositor.h).
 //
 // Sample lattice. For a ray entering the volume's domain at t_in (after clipping to
 // [ray.tMin, ray.tMax]), samples lie at
@@ -46,24 +47,19 @@
 // per voxel: an 8-bit map quantised to 1/255 has steps of 4e-3 per voxel, so flat regions below a
 // quarter of one quantisation step per voxel are called flat). normal = −∇f / |∇f| (pointing from
 // dense to sparse material, outwards of a structure). Samples without a usable normal are not
-// BRDF-shaded: shadeVolumeSample lights them with the Lambertian term and cos θ = 1.
+// BRDF-shaded (render/shading.h lights them with the Lambertian term and cos θ = 1).
 #pragma once
 
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "core/light.h"
 #include "core/ray.h"
-#include "materials/material.h"
+#include "core/spectrum.h"
 #include "volume/reconstruction.h"
 #include "volume/transfer_function.h"
 
 namespace lobe {
-
-// Front-to-back compositing stops once the transmittance falls below this: the light still to
-// come can change the pixel by at most 1e-3 of the remaining radiance.
-constexpr double kEarlyTerminationTransmittance = 1e-3;
 
 struct DvrSettings {
     Reconstruction reconstruction = Reconstruction::kTrilinear;
@@ -178,28 +174,5 @@ private:
     bool active_ = false;
     long long evaluated_ = 0, skipped_ = 0;
 };
-
-// Front-to-back compositing (Porter & Duff 1984 "over", evaluated front to back as in Levoy 1990,
-// "Efficient ray tracing of volume data", and Engel et al. 2006, ch. 1):
-//     C ← C + T α L,   T ← T (1 − α).
-struct FrontToBackCompositor {
-    Spectrum radiance{0.0};
-    double transmittance = 1.0;
-
-    void add(double alpha, const Spectrum& sampleRadiance) {
-        radiance += sampleRadiance * (transmittance * alpha);
-        transmittance *= 1.0 - alpha;
-    }
-    bool terminated() const { return transmittance < kEarlyTerminationTransmittance; }
-};
-
-// Radiance leaving a volume sample towards the viewer: colour × direct lighting with the object's
-// material (materials/material.h, two-sided) in a frame around the sample normal whose tangent is
-// `tangentAxis` projected (fallbackAxis where degenerate); without a usable normal, colour ×
-// Σ kd/π · I/d² (Lambert, cos θ = 1, no BRDF). `toViewer` is the unit direction to the eye.
-Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
-                           const Vec3& toViewer, const std::vector<PointLight>& lights,
-                           const Vec3& tangentAxis = Vec3(0, 0, 1),
-                           const Vec3& fallbackAxis = Vec3(1, 0, 0));
 
 }  // namespace lobe

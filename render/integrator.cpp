@@ -1,0 +1,132 @@
+#include "render/integrator.h"
+
+#include "core/rng.h"
+#include "render/compositor.h"
+#include "render/scene.h"
+#include "render/shading.h"
+#include "surface/surface_scene.h"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace lobe {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// At most this many surfaces are composited along one ray: a guard against pathological
+// geometry, far above what a head (skin, two skull walls, …) produces.
+constexpr int kMaxSurfaceHits = 64;
+}  // namespace
+
+RenderStats& RenderStats::operator+=(const RenderStats& o) {
+    rays += o.rays;
+    surfaceHits += o.surfaceHits;
+    volumeSamples += o.volumeSamples;
+    volumeShaded += o.volumeShaded;
+    volumeEvaluated += o.volumeEvaluated;
+    volumeSkipped += o.volumeSkipped;
+    return *this;
+}
+
+TraceState Integrator::newState() const {
+    TraceState st;
+    for (const SceneVolume& vo : scene_.volumeObjects()) st.samplers.emplace_back(*vo.volume);
+    st.pending.resize(scene_.volumeObjects().size());
+    st.hasPending.resize(scene_.volumeObjects().size());
+    return st;
+}
+
+Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
+                           RenderStats& stats) const {
+    ++stats.rays;
+    const SceneSpec& spec = scene_.spec();
+    const Backdrop& backdrop = scene_.backdrop();
+    const SurfaceScene* surfaces = scene_.surfaces();
+    const std::vector<SceneVolume>& volumeObjects = scene_.volumeObjects();
+    double rouletteSum = rng.uniform();  // the shading roulette's offset (below)
+    FrontToBackCompositor out(spec.terminationTransmittance);
+
+    const size_t nv = volumeObjects.size();
+    for (size_t i = 0; i < nv; ++i) {
+        // Each volume gets its own jitter (a fixed irrational offset), so coincident lattices of
+        // volumes sharing a grid do not sample the same depths.
+        const double xi = jitter + 0.6180339887498949 * double(i);
+        st.samplers[i].begin(ray, xi - std::floor(xi));
+        st.hasPending[i] = 0;
+    }
+    // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not seen.
+    double tBackdrop = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
+    if (tBackdrop > ray.tMax) tBackdrop = kInf;
+    const Vec3 toViewer = -ray.d;
+
+    // Composites every volume sample with t < tEnd in depth order; false once opaque.
+    auto volumesUpTo = [&](double tEnd) {
+        if (nv == 0) return true;
+        for (;;) {
+            int best = -1;
+            for (size_t i = 0; i < nv; ++i) {
+                if (!st.hasPending[i]) st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i], false);
+                if (st.hasPending[i] && (best < 0 || st.pending[i].t < st.pending[best].t))
+                    best = int(i);
+            }
+            if (best < 0) return true;
+            const SceneVolume& vo = volumeObjects[best];
+            VolumeSample& s = st.pending[best];
+            // Russian roulette on shading (Arvo & Kirk 1990): a sample whose weight in the pixel,
+            // w = T·α, is below the scene's threshold w0 is shaded with probability w/w0 and then
+            // counted w0/w times; the expected radiance is unchanged (no bias), only the
+            // gradient and BRDF work of faint samples is saved. The transmittance is always
+            // updated exactly, so the weights along a ray do not depend on the draws. The draws
+            // are systematic (one uniform offset per ray, as in systematic resampling — Kitagawa
+            // 1996): a running sum of w/w0 from that offset, and a sample is shaded when the sum
+            // crosses an integer. Each sample's probability is still exactly w/w0, but the shaded
+            // samples are spread evenly over the ray's faint weight instead of clumping, which
+            // lowers the noise at the same cost.
+            const double weight = out.transmittance * s.alpha;
+            const double w0 = spec.shadingRoulette;
+            bool shade = weight >= w0;
+            if (!shade) {
+                const double before = rouletteSum;
+                rouletteSum += weight / w0;
+                shade = std::floor(rouletteSum) > std::floor(before);
+            }
+            Spectrum L(0.0);
+            if (shade) {
+                st.samplers[best].addNormal(s);
+                L = shadeVolumeSample(vo.spec->material, s, toViewer, spec.lights,
+                                      vo.tangent.axis, vo.tangent.fallback);
+                if (weight < w0) L *= w0 / weight;
+                ++stats.volumeShaded;
+            }
+            out.add(s.alpha, L);
+            st.hasPending[best] = 0;
+            ++stats.volumeSamples;
+            if (out.terminated()) return false;
+        }
+    };
+
+    Ray segment = ray;
+    segment.tMax = std::min(ray.tMax, tBackdrop);
+    for (int hits = 0;; ++hits) {
+        std::optional<SurfaceHit> hit;
+        if (surfaces && hits < kMaxSurfaceHits) hit = surfaces->intersect(segment);
+        const double tEnd = hit ? hit->t : std::min(tBackdrop, kInf);
+        if (!volumesUpTo(tEnd)) return out.radiance;
+        if (!hit) break;
+        ++stats.surfaceHits;
+        const SceneSurface& so = scene_.surfaceObjects()[hit->objectId];
+        const Frame frame =
+            Frame::fromNormalAndAxis(hit->normal, so.tangent.axis, so.tangent.fallback);
+        const Spectrum L = so.spec->color * directLighting(so.spec->material, frame,
+                                                           hit->position, toViewer, spec.lights,
+                                                           /*twoSided=*/true);
+        out.add(so.spec->opacity, L);
+        if (out.terminated()) return out.radiance;
+        segment.tMin = hit->t + 1e-6 * (1.0 + hit->t);
+    }
+    if (tBackdrop < kInf) out.add(1.0, backdrop.radiance(ray.at(tBackdrop), spec.lights));
+    return out.radiance;
+}
+
+}  // namespace lobe

@@ -1,0 +1,197 @@
+#include "render/scene.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "surface/iso_exact.h"
+#include "surface/iso_mesh.h"
+#include "surface/surface_scene.h"
+#include "volume/gaussian_blur.h"
+#include "volume/volume.h"
+#include "volume/volume_marcher.h"
+
+#include <tbb/parallel_for.h>
+
+#include <limits>
+#include <map>
+#include <optional>
+
+namespace lobe {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The object's axis and a second axis for where the first degenerates, both in world space.
+TangentAxes worldAxes(const ObjectSpec& spec) {
+    const auto& L = spec.transform.linear;
+    auto apply = [&](const Vec3& v) {
+        return normalized(Vec3(L[0][0] * v.x + L[0][1] * v.y + L[0][2] * v.z,
+                               L[1][0] * v.x + L[1][1] * v.y + L[1][2] * v.z,
+                               L[2][0] * v.x + L[2][1] * v.y + L[2][2] * v.z));
+    };
+    const Vec3 a = spec.tangentAxis;
+    const Vec3 f = std::abs(a.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+    return {apply(a), apply(f)};
+}
+
+std::string sourceKey(const VolumeSourceSpec& s) {
+    return s.path + "|" + std::to_string(s.divideBy) + "|" + std::to_string(s.background) + "|" +
+           std::to_string(s.blurFwhmMm);
+}
+
+Volume loadSource(const VolumeSourceSpec& s) {
+    LoadOptions options;
+    if (s.dims) {
+        options.hasLayout = true;
+        options.layout.dims = *s.dims;
+        options.layout.type = parseVoxelType(s.type.empty() ? "uint8" : s.type);
+        options.layout.endian = parseEndian(s.endian);
+        options.layout.spacing = s.spacing;
+    }
+    if (s.divideBy != 1.0) options.normalize = s.divideBy;
+    options.background = s.background;
+    Volume v = loadVolume(s.path, options);
+    if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);
+    return v;
+}
+
+// Every distinct source of the scene loaded once, the files in parallel (decompressing one
+// file is serial, so loading the skull and the brain side by side saves ~0.2 s of a preview).
+// Returns, per object, the index of its volume in `volumes`. A failure is reported for the
+// first failing object in scene order, whatever order the loads finished in.
+std::vector<size_t> loadSources(const SceneSpec& spec, std::vector<Volume>& volumes) {
+    std::map<std::string, size_t> slotOfKey;
+    std::vector<size_t> slotOfObject, firstObjectOfSlot;
+    for (size_t i = 0; i < spec.objects.size(); ++i) {
+        const auto [it, isNew] =
+            slotOfKey.emplace(sourceKey(spec.objects[i].source), firstObjectOfSlot.size());
+        if (isNew) firstObjectOfSlot.push_back(i);
+        slotOfObject.push_back(it->second);
+    }
+    volumes.resize(firstObjectOfSlot.size());
+    std::vector<std::optional<std::string>> errors(volumes.size());
+    tbb::parallel_for(size_t(0), volumes.size(), [&](size_t slot) {
+        try {
+            volumes[slot] = loadSource(spec.objects[firstObjectOfSlot[slot]].source);
+        } catch (const std::exception& e) {
+            errors[slot] = e.what();
+        }
+    });
+    for (size_t i = 0; i < spec.objects.size(); ++i)
+        if (errors[slotOfObject[i]])
+            throw Error(spec.path + ": objects[" + std::to_string(i) + "] (" +
+                        spec.objects[i].name + "): " + *errors[slotOfObject[i]]);
+    return slotOfObject;
+}
+
+// A shallow copy of the volume's grid (same voxels) whose transform is followed by the object's
+// transform, so the grid maps index → scene world directly.
+openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform& t,
+                                     const std::string& context) {
+    const openvdb::math::AffineMap::Ptr affine = volume.grid->transform().baseMap()->getAffineMap();
+    if (!affine) throw Error(context + ": the volume's transform is not affine");
+    // OpenVDB multiplies row vectors (world = index · M): the object map in that form.
+    openvdb::math::Mat4d object = openvdb::math::Mat4d::identity();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) object[r][c] = t.linear[c][r];
+    for (int c = 0; c < 3; ++c) object[3][c] = t.translation[c];
+    const openvdb::math::Mat4d total = affine->getMat4() * object;
+    openvdb::FloatGrid::Ptr grid = volume.grid->copy();  // shares the tree
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(total));
+    return grid;
+}
+
+// World bounding box of a grid's active voxels (their centres ± half a voxel).
+void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
+    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    if (box.empty()) return;
+    for (int corner = 0; corner < 8; ++corner) {
+        const openvdb::Vec3d idx((corner & 1) ? box.max().x() + 0.5 : box.min().x() - 0.5,
+                                 (corner & 2) ? box.max().y() + 0.5 : box.min().y() - 0.5,
+                                 (corner & 4) ? box.max().z() + 0.5 : box.min().z() - 0.5);
+        const openvdb::Vec3d w = grid.transform().indexToWorld(idx);
+        lo = Vec3(std::min(lo.x, w.x()), std::min(lo.y, w.y()), std::min(lo.z, w.z()));
+        hi = Vec3(std::max(hi.x, w.x()), std::max(hi.y, w.y()), std::max(hi.z, w.z()));
+    }
+}
+
+}  // namespace
+
+Scene::Scene(const SceneSpec& spec, bool progress) : spec_(spec) {
+    openvdb::initialize();
+    camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
+                            spec_.fovDegrees, double(spec_.width) / spec_.height, spec_.crop);
+    ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);
+    std::vector<Volume> volumes;
+    const std::vector<size_t> volumeOfObject = loadSources(spec_, volumes);
+    Vec3 lo(kInf), hi(-kInf);
+    for (size_t i = 0; i < spec_.objects.size(); ++i) {
+        const ObjectSpec& object = spec_.objects[i];
+        const std::string context =
+            spec_.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
+        const Volume& volume = volumes[volumeOfObject[i]];
+        openvdb::FloatGrid::Ptr grid = placeInWorld(volume, object.transform, context);
+        growByGridBox(*grid, lo, hi);
+        const TangentAxes tangent = worldAxes(object);
+        if (object.kind == ObjectSpec::Kind::IsoSurface) {
+            if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
+            std::shared_ptr<const SurfaceGeometry> geometry;
+            try {
+                if (object.method == "mesh")
+                    geometry = std::make_shared<IsoMeshSurface>(*grid, object.iso, object.name);
+                else
+                    geometry = std::make_shared<IsoExactSurface>(*grid, object.iso, object.name);
+            } catch (const Error& e) {
+                throw Error(context + ": " + e.what());
+            }
+            const int id = surfaces_->add(geometry);
+            if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
+            surfaceObjects_.push_back({&object, tangent});
+        } else {
+            DvrSettings settings;
+            settings.reconstruction = object.reconstruction == "bspline"
+                                          ? Reconstruction::kCubicBSpline
+                                          : Reconstruction::kTrilinear;
+            settings.gradient = object.gradient == "bspline" ? GradientMethod::kBSplineDerivative
+                                                             : GradientMethod::kCentralDifferences;
+            settings.stepVoxels = spec_.volumeStepVoxels;
+            settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
+            SceneVolume vo;
+            vo.spec = &object;
+            vo.volume = std::make_unique<DvrVolume>(grid, object.transfer, settings, context);
+            vo.tangent = tangent;
+            volumeObjects_.push_back(std::move(vo));
+        }
+        loading.advance();
+    }
+    if (surfaces_) surfaces_->commit();
+    loading.finish();
+
+    if (spec_.backdrop.enabled) {
+        // Behind everything: the farthest corner of the objects' box along the view, plus 10 %.
+        const Vec3 forward = camera_.forward();
+        double depth = (spec_.cameraTarget - spec_.cameraPosition).dot(forward) * 1.5;
+        if (lo.x <= hi.x) {
+            depth = 0.0;
+            for (int c = 0; c < 8; ++c) {
+                const Vec3 p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+                depth = std::max(depth, (p - spec_.cameraPosition).dot(forward));
+            }
+            depth *= 1.1;
+        }
+        const double halfFov = std::tan(radians(spec_.fovDegrees) * 0.5);
+        const double half = depth * halfFov * std::max(1.0, double(spec_.width) / spec_.height);
+        BackdropSettings b;
+        b.seed = spec_.backdrop.seed;
+        b.ambient = spec_.backdrop.ambient;
+        b.diffuse = spec_.backdrop.diffuse;
+        b.cells = spec_.backdrop.cells;
+        b.blur = spec_.backdrop.blur;
+        backdrop_ = Backdrop(b, spec_.cameraPosition + forward * depth, forward, camera_.right(),
+                             camera_.up(), half * 1.05);
+    }
+}
+
+Scene::~Scene() = default;
+
+}  // namespace lobe

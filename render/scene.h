@@ -1,0 +1,64 @@
+// Scene assembly: a Scene is built once from a SceneSpec — volumes loaded (each file once,
+// however many objects use it), object transforms applied, iso-surfaces handed to Embree (exact
+// or meshed), density volumes prepared for ray marching with empty-space skipping, the backdrop
+// placed behind the objects — and is then read, never changed, by the integrator
+// (render/integrator.h) on every thread.
+#pragma once
+
+#include "core/camera.h"
+#include "materials/material.h"
+#include "render/backdrop.h"
+#include "render/scene_description.h"
+
+#include <memory>
+#include <vector>
+
+namespace lobe {
+
+class SurfaceScene;
+class DvrVolume;
+
+// An object's tangent field (the anisotropic models' direction): its axis and a second axis for
+// where the first degenerates, both in world space (docs/scene-format.md, "Tangent field").
+struct TangentAxes {
+    Vec3 axis{0, 0, 1};
+    Vec3 fallback{1, 0, 0};
+};
+
+struct SceneSurface {
+    const ObjectSpec* spec = nullptr;
+    TangentAxes tangent;
+};
+
+struct SceneVolume {
+    const ObjectSpec* spec = nullptr;
+    std::unique_ptr<DvrVolume> volume;
+    TangentAxes tangent;
+};
+
+class Scene {
+public:
+    // Loads every source and builds the acceleration structures; throws lobe::Error naming the
+    // scene file and the object for anything it cannot load.
+    explicit Scene(const SceneSpec& spec, bool progress = true);
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    const SceneSpec& spec() const { return spec_; }
+    const PinholeCamera& camera() const { return camera_; }
+    const Backdrop& backdrop() const { return backdrop_; }
+    const SurfaceScene* surfaces() const { return surfaces_.get(); }  // null: no surface
+    const std::vector<SceneSurface>& surfaceObjects() const { return surfaceObjects_; }  // by ID
+    const std::vector<SceneVolume>& volumeObjects() const { return volumeObjects_; }
+
+private:
+    SceneSpec spec_;
+    PinholeCamera camera_;
+    Backdrop backdrop_;
+    std::unique_ptr<SurfaceScene> surfaces_;
+    std::vector<SceneSurface> surfaceObjects_;
+    std::vector<SceneVolume> volumeObjects_;
+};
+
+}  // namespace lobe

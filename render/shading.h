@@ -1,0 +1,45 @@
+// Shading: the one place that lights a surface hit or a volume sample with its object's material
+// (materials/material.h) under the scene's point lights, through the one light loop
+// (core/light.h):
+//   L = Σ_lights (kd/π + f_s(wi, wo)) · I/d² · cos θi      (shared/docs/brdf-models.md,
+// "Conventions"; the paper's eq. 1.10 with point lights, no shadows).
+#pragma once
+
+#include "core/frame.h"
+#include "core/light.h"
+#include "materials/material.h"
+#include "volume/volume_marcher.h"
+
+#include <vector>
+
+namespace lobe {
+
+// The frame mirrored to the viewer's side when the viewer is below it (two-sided shading: a ray
+// through a translucent shell sees its inner side, and volume samples have no inside). Flipping
+// n and b keeps the frame right-handed and the tangent (the anisotropy direction) unchanged.
+inline Frame facingViewer(Frame frame, const Vec3& toViewer) {
+    if (frame.n.dot(toViewer) < 0.0) {
+        frame.n = -frame.n;
+        frame.b = -frame.b;
+    }
+    return frame;
+}
+
+// Reflected radiance towards the viewer at `position` with shading frame `frame`; `toViewer` is
+// the unit world direction from the point to the viewer. Lights below the surface contribute 0.
+// twoSided: the frame is first turned to the viewer (facingViewer).
+Spectrum directLighting(const Material& material, const Frame& frame, const Vec3& position,
+                        const Vec3& toViewer, const std::vector<PointLight>& lights,
+                        bool twoSided = false);
+
+// Radiance leaving a volume sample towards the viewer: the transfer-function colour × direct
+// lighting with the object's material, two-sided, in a frame around the sample normal whose
+// tangent is `tangentAxis` projected (`fallbackAxis` where that degenerates). A sample without a
+// usable normal (volume/volume_marcher.h, "Normals") is not BRDF-shaded: colour × Σ kd/π · I/d²
+// (Lambert with cos θ = 1).
+Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
+                           const Vec3& toViewer, const std::vector<PointLight>& lights,
+                           const Vec3& tangentAxis = Vec3(0, 0, 1),
+                           const Vec3& fallbackAxis = Vec3(1, 0, 0));
+
+}  // namespace lobe
