@@ -264,16 +264,14 @@ std::vector<ModelSetting> propertySettings() {
 }
 
 double sampleScale(const std::string& model) {
-    // Poulin–Fournier integrates a profile per evaluation (Gauss–Kronrod on pieces of the arc) and
-    // He–Torrance sums a series and solves for z0 by Newton per evaluation: both count 1/4 of the
-    // samples. Checked with all nine models registered (docs/brdf-properties.md, "The sweep"): on
+    // Costly models (BrdfFlags): Poulin–Fournier integrates a profile per evaluation
+    // (Gauss–Kronrod on pieces of the arc) and He–Torrance sums a series and solves for z0 by
+    // Newton per evaluation: both count 1/4 of the samples. Checked with all nine models registered (docs/brdf-properties.md, "The sweep"): on
     // the albedo estimator's directions PF costs ~2–3 µs and HT 2.3–9.6 µs (growing with σ0/λ)
     // per evaluation, against ~0.3 µs per sample for a closed-form model, so one of their settings
     // costs ~1–9× a closed-form one and `lobe brdf props` at its defaults stays at a few seconds.
     // (PF was at 1/32 while it cost 12–15 µs per evaluation, before commit 05eae7f.)
-    if (model == "poulin_fournier") return 1.0 / 4.0;
-    if (model == "he_torrance") return 1.0 / 4.0;
-    return 1.0;
+    return findBrdfModel(model).flags.costly ? 1.0 / 4.0 : 1.0;
 }
 
 const std::vector<double>& albedoThetasDeg() {

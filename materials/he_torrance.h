@@ -29,6 +29,9 @@ struct HeTorrance {
     static constexpr const char* kCitation =
         "X. D. He, K. E. Torrance, F. X. Sillion, D. P. Greenberg, A comprehensive physical model "
         "for light reflection, SIGGRAPH 1991";
+    // Reciprocity: K(θi) + K(θo), g ∝ (cos θi + cos θo)², D and G of H, S(θi)S(θo), F(wi·h) with
+    // wi·h = wo·h are all symmetric. Costly: a series and a Newton solve per evaluation.
+    static constexpr BrdfFlags kFlags = {true, true};
     static const ParamTable& paramTable();
     static HeTorrance fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

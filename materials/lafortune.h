@@ -17,6 +17,8 @@ struct Lafortune {
     static constexpr const char* kCitation =
         "E. P. F. Lafortune et al., Non-linear approximation of reflectance functions, "
         "SIGGRAPH 1997";
+    // Reciprocity: cx wi.x wo.x + cy wi.y wo.y + cz wi.z wo.z is symmetric.
+    static constexpr BrdfFlags kFlags = {true, false};
     static const ParamTable& paramTable();
     static Lafortune fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

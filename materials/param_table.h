@@ -23,6 +23,17 @@ struct ParamSpec {
 
 using ParamTable = std::vector<ParamSpec>;
 
+// Facts about a model that follow from its definition (shared/docs/brdf-models.md), declared on
+// the model itself as `static constexpr BrdfFlags kFlags` (as pbrt-v4's BxDF::Flags()), so the
+// registry, analysis/ and the tests read them from one place instead of tables keyed by name.
+struct BrdfFlags {
+    // f(wi, wo) = f(wo, wi) by construction (the derivation sits beside kFlags in each header).
+    bool reciprocal = true;
+    // An evaluation integrates or sums a series (µs, not ns): sampling code takes fewer samples
+    // (analysis/properties.h, sampleScale).
+    bool costly = false;
+};
+
 // Validated values of one model's parameters: every parameter of its table, defaults filled in.
 class ParamValues {
 public:

@@ -408,8 +408,6 @@ const ParamTable& PoulinFournier::paramTable() {
         {"gap", 2.0, 0.0, 100.0, "distance between neighbouring cylinders, in radii", false},
         {"floor_depth", 4.0, 0.0, 100.0, "depth of the floor below the cylinder axes, in radii",
          false},
-        {"intervals", 64.0, 2.0, 4096.0, "Simpson sub-intervals of the fixed rule (evalFixedRule)",
-         true},
     };
     return table;
 }
@@ -420,7 +418,6 @@ PoulinFournier PoulinFournier::fromParams(const ParamValues& p) {
     m.exponent = p.get("exponent");
     m.gap = p.get("gap");
     m.floorDepth = p.get("floor_depth");
-    m.intervals = int(std::lround(p.scalar("intervals")));
     // One profile per distinct (exponent, gap, floor_depth): with the defaults all three bands
     // share one integration.
     for (int b = 0; b < kBandCount; ++b) {
@@ -438,7 +435,8 @@ PoulinFournier PoulinFournier::fromParams(const ParamValues& p) {
     return m;
 }
 
-Spectrum PoulinFournier::evaluate(const Vec3& wi, const Vec3& wo, bool adaptive) const {
+Spectrum PoulinFournier::evaluate(const Vec3& wi, const Vec3& wo, bool adaptive,
+                                  int intervals) const {
     if (!aboveHorizon(wi, wo)) return Spectrum(0.0);
     const int intervalCount = std::max(2, intervals);
     Spectrum f;
@@ -456,11 +454,11 @@ Spectrum PoulinFournier::evaluate(const Vec3& wi, const Vec3& wo, bool adaptive)
 }
 
 Spectrum PoulinFournier::eval(const Vec3& wi, const Vec3& wo) const {
-    return evaluate(wi, wo, true);
+    return evaluate(wi, wo, true, kPaperIntervals);
 }
 
-Spectrum PoulinFournier::evalFixedRule(const Vec3& wi, const Vec3& wo) const {
-    return evaluate(wi, wo, false);
+Spectrum PoulinFournier::evalFixedRule(const Vec3& wi, const Vec3& wo, int intervals) const {
+    return evaluate(wi, wo, false, intervals);
 }
 
 }  // namespace lobe

@@ -23,13 +23,14 @@
 // names adaptive Simpson from `intervals` sub-intervals as the way to reach it; the Gauss–Kronrod
 // rule on lobe-adapted pieces reaches the same accuracy with ~8× fewer integrand evaluations
 // (~55 instead of ~430 per call in the flux-overlap test), which made the model ~5–8× faster.
-// `intervals` is kept: it is the sub-interval count of evalFixedRule (the paper's rule).
+// `intervals` is therefore not a parameter of the model: it changed nothing in a render, so a
+// scene or `--set` naming it is refused as an unknown parameter; the paper's fixed rule survives
+// as evalFixedRule(wi, wo, intervals), for measuring how far it is from the accurate value.
 // Parameters (defaults from the paper's Appendix B):
 //   ks ∈ [0, 1]            Phong coefficient of the cylinder and floor material
 //   exponent ∈ [0, 1e5]    Phong exponent of the local reflection
 //   gap ∈ [0, 100]         distance between neighbouring cylinders, in cylinder radii
 //   floor_depth ∈ [0, 100] depth of the floor below the cylinder axes, in cylinder radii
-//   intervals ∈ [2, 4096]  Simpson sub-intervals of the fixed rule (evalFixedRule; integer)
 // ks and exponent may differ per band; gap and floor_depth too (each distinct geometry is then
 // integrated separately).
 #pragma once
@@ -46,20 +47,25 @@ struct PoulinFournier {
     static constexpr const char* kTitle = "Poulin-Fournier";
     static constexpr const char* kCitation =
         "P. Poulin, A. Fournier, A model for anisotropic reflection, SIGGRAPH 1990";
+    // Reciprocity: lit/seen tests, (N·wi)(N·wo), Phong's local lobe and D cos θi cos θo are
+    // symmetric under wi ↔ wo (brdf-models.md says so explicitly). Costly: an arc integral per
+    // evaluation.
+    static constexpr BrdfFlags kFlags = {true, true};
     static const ParamTable& paramTable();
     static PoulinFournier fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;
 
-    // The same integral with the plain (non-adaptive) Simpson rule of `intervals` sub-intervals on
-    // the arc: what the 1990 paper does; kept to measure how far it is from the adaptive value.
-    Spectrum evalFixedRule(const Vec3& wi, const Vec3& wo) const;
+    // The same integral with the plain (non-adaptive) composite Simpson rule of `intervals`
+    // sub-intervals on the arc (≥ 2): what the 1990 paper does; kept to measure how far it is
+    // from the accurate value.
+    static constexpr int kPaperIntervals = 64;
+    Spectrum evalFixedRule(const Vec3& wi, const Vec3& wo, int intervals = kPaperIntervals) const;
 
     // Per-band parameters, named as in the doc.
     Spectrum ks{0.8};
     Spectrum exponent{100.0};
     Spectrum gap{2.0};
     Spectrum floorDepth{4.0};
-    int intervals = 64;
 
     // Constants of one band's geometry and lobe, precomputed by fromParams (bands with equal
     // exponent, gap and floor_depth share one; ks scales the result and is applied last).
@@ -76,7 +82,7 @@ struct PoulinFournier {
     int profileCount = 0;
 
 private:
-    Spectrum evaluate(const Vec3& wi, const Vec3& wo, bool adaptive) const;
+    Spectrum evaluate(const Vec3& wi, const Vec3& wo, bool adaptive, int intervals) const;
 };
 
 }  // namespace lobe

@@ -7,7 +7,7 @@ namespace {
 
 template <class Model>
 BrdfModelInfo infoFor() {
-    return {Model::kName, Model::kTitle, Model::kCitation, &Model::paramTable(),
+    return {Model::kName, Model::kTitle, Model::kCitation, &Model::paramTable(), Model::kFlags,
             [](const ParamValues& values) -> Brdf { return Model::fromParams(values); }};
 }
 

@@ -15,6 +15,7 @@ struct BrdfModelInfo {
     std::string title;     // for people, e.g. "Ashikhmin-Shirley"
     std::string citation;
     const ParamTable* params = nullptr;
+    BrdfFlags flags;
     Brdf (*create)(const ParamValues&) = nullptr;
 };
 

@@ -18,6 +18,8 @@ struct SchlickLewis {
     static constexpr const char* kCitation =
         "C. Schlick, A customizable reflectance model for everyday rendering, EGWR 1993; "
         "R. R. Lewis, Making shaders more physically plausible, EGWR 1993";
+    // Reciprocity: a function of cos α = r(wi)·wo, symmetric in wi and wo.
+    static constexpr BrdfFlags kFlags = {true, false};
     static const ParamTable& paramTable();
     static SchlickLewis fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

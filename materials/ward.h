@@ -17,6 +17,8 @@ struct Ward {
     static constexpr const char* kTitle = "Ward";
     static constexpr const char* kCitation =
         "G. J. Ward, Measuring and modeling anisotropic reflection, SIGGRAPH 1992";
+    // Reciprocity: H = wi + wo and sqrt(cos θi cos θo) are symmetric.
+    static constexpr BrdfFlags kFlags = {true, false};
     static const ParamTable& paramTable();
     static Ward fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;
