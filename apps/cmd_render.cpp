@@ -35,6 +35,7 @@ struct RenderCommand {
     bool quiet = false;
     bool noContactSheets = false;
     int sheetThumb = 256;
+    std::string aov;  // --aov LIST: per-object passes as extra EXR channels
 };
 
 // Scene files named by the inputs: files as given, folders' *.json in name order, list files'
@@ -103,6 +104,8 @@ void runRender(const RenderCommand& cmd) {
     if (cmd.step < 0.0 || cmd.step > 16.0) throw Error("--step must be in (0, 16] voxels");
     if (cmd.roulette != -1.0 && !(cmd.roulette >= 0.0 && cmd.roulette <= 0.5))
         throw Error("--roulette must be in [0, 0.5]");
+    AovRequest aov;
+    if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
     const std::vector<std::string> files = collectScenes(cmd);
     std::vector<SceneSpec> specs;
     int64_t totalPixels = 0;
@@ -123,9 +126,16 @@ void runRender(const RenderCommand& cmd) {
         options.progress = !cmd.quiet;
         options.sharedProgress = &progress;
         RenderStats stats;
-        const Film film = scene.render(options, &stats);
+        AovImage aovs;
+        const Film film = scene.render(options, &stats, &aov, &aovs);
         const std::string base = (fs::path(cmd.outDir) / fs::path(spec.path).stem()).string();
-        writeFilm(base + ".exr", film, spec.exposure);
+        ImageChannels extra;
+        if (aov.any()) {
+            std::vector<std::string> names;
+            for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
+            appendAovChannels(aov, aovs, names, spec.exposure, extra);
+        }
+        writeFilm(base + ".exr", film, spec.exposure, extra);
         const RgbImage rgb = filmToRgb(film, spec.exposure);
         writeImage(base + ".png", rgb);
         if (!cmd.quiet)
@@ -202,6 +212,9 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--sheet-thumb", cmd.sheetThumb, "contact sheet thumbnail width")
         ->capture_default_str();
     sub->add_flag("--no-contact-sheets", cmd.noContactSheets, "write no contact sheets");
+    sub->add_option("--aov", cmd.aov,
+                    "extra EXR passes: all, or a comma list of objects (each object's lambert and "
+                    "specular contribution), backdrop, depth, normal, id (object contributing most)");
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->callback([] { runRender(cmd); });
 }

@@ -97,20 +97,30 @@ void writeImage(const std::string& path, const RgbImage& image) {
     writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb);
 }
 
-void writeFilm(const std::string& path, const Film& film, double exposure) {
+void writeFilm(const std::string& path, const Film& film, double exposure,
+               const ImageChannels& extra) {
     const RgbImage rgb = filmToRgb(film, exposure);
     const size_t n = size_t(film.width()) * film.height();
-    std::vector<float> data(n * 6);
+    const size_t k = extra.names.size();
+    if (extra.data.size() != n * k)
+        throw Error("cannot write '" + path + "': extra channels do not match the image size");
+    const size_t stride = 6 + k;
+    std::vector<float> data(n * stride);
     for (size_t i = 0; i < n; ++i) {
         const Spectrum& s = film.pixels()[i];
         for (int c = 0; c < 3; ++c) {
-            data[i * 6 + c] = rgb.rgb[i * 3 + c];
+            data[i * stride + c] = rgb.rgb[i * 3 + c];
             const double band = s[c] * exposure;
-            data[i * 6 + 3 + c] = std::isfinite(band) ? float(band) : 0.0f;
+            data[i * stride + 3 + c] = std::isfinite(band) ? float(band) : 0.0f;
+        }
+        for (size_t c = 0; c < k; ++c) {
+            const float v = extra.data[i * k + c];
+            data[i * stride + 6 + c] = std::isfinite(v) ? v : 0.0f;
         }
     }
-    writePixels(path, film.width(), film.height(),
-                {"R", "G", "B", "band.700", "band.546_1", "band.435_8"}, data);
+    std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};
+    names.insert(names.end(), extra.names.begin(), extra.names.end());
+    writePixels(path, film.width(), film.height(), names, data);
 }
 
 RgbImage readImage(const std::string& path) {

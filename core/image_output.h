@@ -10,12 +10,21 @@
 #include "core/rgb_image.h"
 
 #include <string>
+#include <vector>
 
 namespace lobe {
 
+// Extra float channels for an EXR beside a film's own: names.size() floats per pixel.
+struct ImageChannels {
+    std::vector<std::string> names;
+    std::vector<float> data;  // [pixel · names.size() + channel]
+};
+
 // Throws lobe::Error naming the path when the extension is unsupported or writing fails.
 void writeImage(const std::string& path, const RgbImage& image);
-void writeFilm(const std::string& path, const Film& film, double exposure = 1.0);
+// `extra` channels (an EXR only; ignored by 8-bit formats) follow R, G, B and the bands.
+void writeFilm(const std::string& path, const Film& film, double exposure = 1.0,
+               const ImageChannels& extra = {});
 
 // Reads any image OpenImageIO understands into linear sRGB (8-bit files are decoded from sRGB).
 RgbImage readImage(const std::string& path);

@@ -38,7 +38,7 @@ TraceState Integrator::newState() const {
 }
 
 Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
-                           RenderStats& stats) const {
+                           RenderStats& stats, EventSink* sink) const {
     ++stats.rays;
     const SceneSpec& spec = scene_.spec();
     const Backdrop& backdrop = scene_.backdrop();
@@ -94,10 +94,24 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
             Spectrum L(0.0);
             if (shade) {
                 st.samplers[best].addNormal(s);
-                L = shadeVolumeSample(vo.spec->material, s, toViewer, spec.lights,
-                                      vo.tangent.axis, vo.tangent.fallback);
-                if (weight < w0) L *= w0 / weight;
+                ShadingPoint point;
+                point.material = &vo.spec->material;
+                point.colour = s.colour;
+                point.position = s.position;
+                point.hasFrame = s.hasNormal;
+                if (s.hasNormal)
+                    point.frame = Frame::fromNormalAndAxis(s.normal, vo.tangent.axis,
+                                                           vo.tangent.fallback);
+                L = lobe::shade(point, toViewer, spec.lights);
+                const double scale = weight < w0 ? w0 / weight : 1.0;
+                if (weight < w0) L *= scale;
                 ++stats.volumeShaded;
+                if (sink)
+                    sink->onEvent({vo.objectIndex, s.t, s.alpha, out.transmittance, weight * scale,
+                                   &point, L});
+            } else if (sink) {
+                sink->onEvent({vo.objectIndex, s.t, s.alpha, out.transmittance, 0.0, nullptr,
+                               Spectrum(0.0)});
             }
             out.add(s.alpha, L);
             st.hasPending[best] = 0;
@@ -116,16 +130,26 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         if (!hit) break;
         ++stats.surfaceHits;
         const SceneSurface& so = scene_.surfaceObjects()[hit->objectId];
-        const Frame frame =
-            Frame::fromNormalAndAxis(hit->normal, so.tangent.axis, so.tangent.fallback);
-        const Spectrum L = so.spec->color * directLighting(so.spec->material, frame,
-                                                           hit->position, toViewer, spec.lights,
-                                                           /*twoSided=*/true);
+        ShadingPoint point;
+        point.material = &so.spec->material;
+        point.colour = so.spec->color;
+        point.position = hit->position;
+        point.frame = Frame::fromNormalAndAxis(hit->normal, so.tangent.axis, so.tangent.fallback);
+        const Spectrum L = shade(point, toViewer, spec.lights);
+        if (sink)
+            sink->onEvent({so.objectIndex, hit->t, so.spec->opacity, out.transmittance,
+                           out.transmittance * so.spec->opacity, &point, L});
         out.add(so.spec->opacity, L);
         if (out.terminated()) return out.radiance;
         segment.tMin = hit->t + 1e-6 * (1.0 + hit->t);
     }
-    if (tBackdrop < kInf) out.add(1.0, backdrop.radiance(ray.at(tBackdrop), spec.lights));
+    if (tBackdrop < kInf) {
+        const Spectrum L = backdrop.radiance(ray.at(tBackdrop), spec.lights);
+        if (sink)
+            sink->onEvent({ShadingEvent::kBackdrop, tBackdrop, 1.0, out.transmittance,
+                           out.transmittance, nullptr, L});
+        out.add(1.0, L);
+    }
     return out.radiance;
 }
 

@@ -44,6 +44,30 @@ struct TraceState {
     std::vector<char> hasPending;
 };
 
+struct ShadingPoint;
+
+// One composited event along a ray — a volume sample, a surface hit or the backdrop — as the
+// integrator adds it to the pixel: radiance `radiance` enters with factor `weight` = T·α (times
+// the shading roulette's w0/w where it applies), so the pixel is Σ weight · radiance over the
+// events. `point` is what was lit (null for the backdrop and for volume samples the roulette did
+// not shade: those enter with weight 0). Per-object passes (render/aov.h) are built from these.
+struct ShadingEvent {
+    static constexpr int kBackdrop = -1;
+    int object = kBackdrop;             // index into SceneSpec::objects, or kBackdrop
+    double t = 0.0;                     // ray parameter
+    double alpha = 0.0;                 // the event's opacity
+    double transmittanceBefore = 1.0;   // T in front of the event
+    double weight = 0.0;                // factor of `radiance` in the pixel
+    const ShadingPoint* point = nullptr;
+    Spectrum radiance{0.0};
+};
+
+class EventSink {
+public:
+    virtual ~EventSink() = default;
+    virtual void onEvent(const ShadingEvent& event) = 0;
+};
+
 class Integrator {
 public:
     explicit Integrator(const Scene& scene) : scene_(scene) {}
@@ -51,8 +75,9 @@ public:
     TraceState newState() const;
     // Radiance along `ray`; `jitter` ∈ [0,1) places the volumes' sample lattices, `rng` drives
     // the shading roulette (SceneSpec::shadingRoulette).
-    Spectrum trace(const Ray& ray, double jitter, Rng& rng, TraceState& state,
-                   RenderStats& stats) const;
+    // `sink`, when given, is told of every composited event (ShadingEvent).
+    Spectrum trace(const Ray& ray, double jitter, Rng& rng, TraceState& state, RenderStats& stats,
+                   EventSink* sink = nullptr) const;
 
 private:
     const Scene& scene_;

@@ -15,15 +15,18 @@ PixelSampling samplingOf(const SceneSpec& spec) {
     return {spec.samplesPerPixel, spec.seed};
 }
 
-// Pixel (x, y): the mean of the integrator's radiance over the pixel's samples.
+// Pixel (x, y): the mean of the integrator's radiance over the pixel's samples; `aov`, when
+// given, collects the same samples' passes.
 Spectrum pixelValue(const Scene& scene, const Integrator& integrator, const PixelSamples& samples,
-                    TraceState& state, RenderStats& stats) {
+                    TraceState& state, RenderStats& stats, AovAccumulator* aov = nullptr) {
     const SceneSpec& spec = scene.spec();
+    if (aov) aov->beginPixel();
     return samples.mean([&](const Vec2& j, Rng& rng) {
         const Ray ray = scene.camera().generateRay((samples.x() + j.x) / spec.width,
                                                    (samples.y() + j.y) / spec.height);
         const double jitter = rng.uniform();
-        return integrator.trace(ray, jitter, rng, state, stats);
+        if (aov) aov->beginSample(-ray.d);
+        return integrator.trace(ray, jitter, rng, state, stats, aov);
     });
 }
 
@@ -44,12 +47,20 @@ Spectrum RenderScene::renderPixel(int x, int y) const {
     return pixelValue(scene_, integrator_, PixelSamples(sampling, strata, x, y), state, stats);
 }
 
-Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) const {
+Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
+                         const AovRequest* aov, AovImage* aovs) const {
     const auto start = std::chrono::steady_clock::now();
     const SceneSpec& spec = scene_.spec();
     Film film(spec.width, spec.height);
     tbb::enumerable_thread_specific<TraceState> states([&] { return integrator_.newState(); });
     tbb::enumerable_thread_specific<RenderStats> stats;
+    const bool withAovs = aov && aovs && aov->any();
+    const int objectCount = int(spec.objects.size());
+    if (withAovs) *aovs = makeAovImage(*aov, spec.width, spec.height, objectCount);
+    static const AovRequest kNoPasses;
+    const AovRequest& request = withAovs ? *aov : kNoPasses;
+    tbb::enumerable_thread_specific<AovAccumulator> accumulators(
+        [&] { return AovAccumulator(request, objectCount, spec.lights); });
 
     SchedulerOptions scheduler;
     scheduler.threads = options.threads;
@@ -59,8 +70,16 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut) co
     scheduler.sharedProgress = options.sharedProgress;
     forEachPixel(film.width(), film.height(), samplingOf(spec), scheduler,
                  [&](const PixelSamples& samples) {
-                     film.at(samples.x(), samples.y()) =
-                         pixelValue(scene_, integrator_, samples, states.local(), stats.local());
+                     if (!withAovs) {
+                         film.at(samples.x(), samples.y()) = pixelValue(
+                             scene_, integrator_, samples, states.local(), stats.local());
+                         return;
+                     }
+                     AovAccumulator& acc = accumulators.local();
+                     film.at(samples.x(), samples.y()) = pixelValue(
+                         scene_, integrator_, samples, states.local(), stats.local(), &acc);
+                     acc.finishPixel(samples.count(),
+                                     size_t(samples.y()) * spec.width + size_t(samples.x()), *aovs);
                  });
     if (statsOut) {
         *statsOut = RenderStats();

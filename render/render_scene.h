@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/film.h"
+#include "render/aov.h"
 #include "render/integrator.h"
 #include "render/scene.h"
 
@@ -31,8 +32,10 @@ public:
 
     const SceneSpec& spec() const { return scene_.spec(); }
     const Scene& scene() const { return scene_; }
-    // Renders at the spec's size, samples and seed.
-    Film render(const RenderOptions& options, RenderStats* stats = nullptr) const;
+    // Renders at the spec's size, samples and seed. With `aov` and `aovs`, also the per-object
+    // passes (render/aov.h) of the same samples; the beauty image is the same either way.
+    Film render(const RenderOptions& options, RenderStats* stats = nullptr,
+                const AovRequest* aov = nullptr, AovImage* aovs = nullptr) const;
     // Radiance along one ray; `jitter` ∈ [0,1) places the volumes' sample lattices, `seed`
     // drives the shading roulette (SceneSpec::shadingRoulette). For tests.
     Spectrum traceRay(const Ray& ray, double jitter, uint64_t seed = 0) const;

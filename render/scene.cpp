@@ -146,7 +146,7 @@ Scene::Scene(const SceneSpec& spec, bool progress) : spec_(spec) {
             }
             const int id = surfaces_->add(geometry);
             if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
-            surfaceObjects_.push_back({&object, tangent});
+            surfaceObjects_.push_back({&object, int(i), tangent});
         } else {
             DvrSettings settings;
             settings.reconstruction = object.reconstruction == "bspline"
@@ -158,6 +158,7 @@ Scene::Scene(const SceneSpec& spec, bool progress) : spec_(spec) {
             settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
             SceneVolume vo;
             vo.spec = &object;
+            vo.objectIndex = int(i);
             vo.volume = std::make_unique<DvrVolume>(grid, object.transfer, settings, context);
             vo.tangent = tangent;
             volumeObjects_.push_back(std::move(vo));

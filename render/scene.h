@@ -27,11 +27,13 @@ struct TangentAxes {
 
 struct SceneSurface {
     const ObjectSpec* spec = nullptr;
+    int objectIndex = 0;  // in SceneSpec::objects
     TangentAxes tangent;
 };
 
 struct SceneVolume {
     const ObjectSpec* spec = nullptr;
+    int objectIndex = 0;  // in SceneSpec::objects
     std::unique_ptr<DvrVolume> volume;
     TangentAxes tangent;
 };

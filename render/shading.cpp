@@ -19,16 +19,61 @@ Spectrum directLighting(const Material& material, const Frame& frameIn, const Ve
 Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
                            const Vec3& toViewer, const std::vector<PointLight>& lights,
                            const Vec3& tangentAxis, const Vec3& fallbackAxis) {
-    if (sample.hasNormal) {
-        const Frame frame = Frame::fromNormalAndAxis(sample.normal, tangentAxis, fallbackAxis);
-        return sample.colour *
-               directLighting(material, frame, sample.position, toViewer, lights, true);
-    }
+    ShadingPoint point;
+    point.material = &material;
+    point.colour = sample.colour;
+    point.position = sample.position;
+    point.hasFrame = sample.hasNormal;
+    if (sample.hasNormal)
+        point.frame = Frame::fromNormalAndAxis(sample.normal, tangentAxis, fallbackAxis);
+    return shade(point, toViewer, lights);
+}
+
+Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
+               const std::vector<PointLight>& lights) {
+    if (point.hasFrame)
+        return point.colour *
+               directLighting(*point.material, point.frame, point.position, toViewer, lights, true);
     Spectrum radiance;
-    forEachLight(lights, sample.position, [&](const PointLight& light, const Vec3&, double d2) {
-        radiance += material.kd * kInvPi * light.intensity * (1.0 / d2);
+    forEachLight(lights, point.position, [&](const PointLight& light, const Vec3&, double d2) {
+        radiance += point.material->kd * kInvPi * light.intensity * (1.0 / d2);
     });
-    return sample.colour * radiance;
+    return point.colour * radiance;
+}
+
+ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
+                        const std::vector<PointLight>& lights) {
+    const Material& m = *point.material;
+    ShadingTerms terms;
+    if (!point.hasFrame) {
+        terms.lambert = shade(point, toViewer, lights);
+        return terms;
+    }
+    const Frame frame = facingViewer(point.frame, toViewer);
+    forEachLightInFrame(lights, frame, point.position, toViewer,
+                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            terms.lambert += m.kd * kInvPi * light.intensity * g;
+                            if (m.specularOn)
+                                terms.specular += evalBrdf(m.specular, wi, wo) * light.intensity * g;
+                        });
+    terms.lambert = point.colour * terms.lambert;
+    terms.specular = point.colour * terms.specular;
+    return terms;
+}
+
+void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
+                           const std::vector<PointLight>& lights, const std::vector<Brdf>& models,
+                           Spectrum* out) {
+    for (size_t m = 0; m < models.size(); ++m) out[m] = Spectrum(0.0);
+    if (!point.hasFrame) return;
+    const Frame frame = facingViewer(point.frame, toViewer);
+    forEachLightInFrame(lights, frame, point.position, toViewer,
+                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            const Spectrum irradiance = light.intensity * g;
+                            for (size_t m = 0; m < models.size(); ++m)
+                                out[m] += evalBrdf(models[m], wi, wo) * irradiance;
+                        });
+    for (size_t m = 0; m < models.size(); ++m) out[m] = point.colour * out[m];
 }
 
 }  // namespace lobe

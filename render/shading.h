@@ -42,4 +42,37 @@ Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
                            const Vec3& tangentAxis = Vec3(0, 0, 1),
                            const Vec3& fallbackAxis = Vec3(1, 0, 0));
 
+// What the integrator lights at one surface hit or volume sample: the object's material, the
+// colour multiplying the reflected light (surface colour or transfer-function colour), and the
+// shading frame — absent for a volume sample without a usable normal.
+struct ShadingPoint {
+    const Material* material = nullptr;
+    Spectrum colour{1.0};
+    Vec3 position{0.0};
+    bool hasFrame = true;
+    Frame frame;
+};
+
+// colour × two-sided direct lighting (or × the Lambert term with cos θ = 1 without a frame): the
+// value shadeVolumeSample and the integrator's surface shading give, bit for bit.
+Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
+               const std::vector<PointLight>& lights);
+
+// The same radiance split into the material's Lambertian and specular parts (their sum equals
+// shade() up to rounding), for per-object passes (render/aov.h).
+struct ShadingTerms {
+    Spectrum lambert;
+    Spectrum specular;
+};
+ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
+                        const std::vector<PointLight>& lights);
+
+// The specular part the point would reflect with each of `models` instead of its own BRDF
+// (colour × Σ f_s^m · I cos θi / d²), written to out[0 … models.size()−1]; zero without a frame.
+// One frame and light loop serve all models (as the flux-overlap lattices do), so `lobe assign`
+// gets every model's layer from one render.
+void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
+                           const std::vector<PointLight>& lights, const std::vector<Brdf>& models,
+                           Spectrum* out);
+
 }  // namespace lobe
