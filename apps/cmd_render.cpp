@@ -4,6 +4,7 @@
 // with one progress display over the whole batch, and writes a contact sheet per scene group.
 #include "apps/commands.h"
 #include "apps/contact_sheet.h"
+#include "apps/scene_overrides.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "core/error.h"
@@ -27,11 +28,8 @@ struct RenderCommand {
     std::vector<std::string> inputs;
     std::string listFile;
     std::string outDir = "out";
-    int width = 0, height = 0, spp = 0, threads = 0;
-    double step = 0.0;
-    double roulette = -1.0;  // < 0: the scenes' own
-    long long seed = -1;
-    bool preview = false;
+    SceneOverrides overrides;
+    int threads = 0;
     bool quiet = false;
     bool noContactSheets = false;
     int sheetThumb = 256;
@@ -78,32 +76,8 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
     return scenes;
 }
 
-void applyOverrides(const RenderCommand& cmd, SceneSpec& spec) {
-    // --preview: 512 pixels wide and one sample per pixel, unless --width / --spp say otherwise.
-    const int width = cmd.width > 0 ? cmd.width : cmd.preview && cmd.height <= 0 ? 512 : 0;
-    if (width > 0 && cmd.height <= 0) {
-        spec.height = std::max(1, int(std::lround(double(width) * spec.height / spec.width)));
-        spec.width = width;
-    } else if (width > 0) {
-        spec.width = width;
-    }
-    if (cmd.height > 0) spec.height = cmd.height;
-    if (cmd.spp > 0)
-        spec.samplesPerPixel = cmd.spp;
-    else if (cmd.preview)
-        spec.samplesPerPixel = 1;
-    if (cmd.roulette >= 0.0) spec.shadingRoulette = cmd.roulette;
-    if (cmd.step > 0.0) spec.volumeStepVoxels = cmd.step;
-    if (cmd.seed >= 0) spec.seed = uint64_t(cmd.seed);
-}
-
 void runRender(const RenderCommand& cmd) {
-    if (cmd.width < 0 || cmd.width > 16384 || cmd.height < 0 || cmd.height > 16384)
-        throw Error("--width and --height must be in [1, 16384]");
-    if (cmd.spp < 0 || cmd.spp > 4096) throw Error("--spp must be in [1, 4096]");
-    if (cmd.step < 0.0 || cmd.step > 16.0) throw Error("--step must be in (0, 16] voxels");
-    if (cmd.roulette != -1.0 && !(cmd.roulette >= 0.0 && cmd.roulette <= 0.5))
-        throw Error("--roulette must be in [0, 0.5]");
+    cmd.overrides.validate();
     AovRequest aov;
     if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
     const std::vector<std::string> files = collectScenes(cmd);
@@ -111,7 +85,7 @@ void runRender(const RenderCommand& cmd) {
     int64_t totalPixels = 0;
     for (const std::string& f : files) {
         specs.push_back(loadSceneFile(f));
-        applyOverrides(cmd, specs.back());
+        cmd.overrides.apply(specs.back());
         totalPixels += int64_t(specs.back().width) * specs.back().height;
     }
     fs::create_directories(cmd.outDir);
@@ -197,17 +171,7 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("scenes", cmd.inputs, "scene files or folders of them");
     sub->add_option("--list", cmd.listFile, "a file listing scene files, one per line");
     sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
-    sub->add_option("--width", cmd.width, "image width (overrides the scenes; keeps the aspect "
-                                          "unless --height is given too)");
-    sub->add_option("--height", cmd.height, "image height (overrides the scenes)");
-    sub->add_option("--spp", cmd.spp, "samples per pixel (overrides the scenes)");
-    sub->add_option("--step", cmd.step, "volume step in voxels (overrides the scenes)");
-    sub->add_option("--seed", cmd.seed, "random seed (overrides the scenes)");
-    sub->add_option("--roulette", cmd.roulette,
-                    "shading roulette threshold in [0, 0.5] (overrides the scenes; 0 shades every "
-                    "volume sample, docs/scene-format.md)");
-    sub->add_flag("--preview", cmd.preview,
-                  "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win)");
+    cmd.overrides.addOptions(*sub);
     sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
     sub->add_option("--sheet-thumb", cmd.sheetThumb, "contact sheet thumbnail width")
         ->capture_default_str();

@@ -15,5 +15,7 @@ void registerDemoCommand(CLI::App& app);
 void registerOverlapCommand(CLI::App& app);
 void registerInfoCommand(CLI::App& app);
 void registerConvertCommand(CLI::App& app);
+void registerSeparationCommand(CLI::App& app);
+void registerAssignCommand(CLI::App& app);
 
 }  // namespace lobe

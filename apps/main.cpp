@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
     lobe::registerRenderCommand(app);
     lobe::registerDemoCommand(app);
     lobe::registerOverlapCommand(app);
+    lobe::registerSeparationCommand(app);
+    lobe::registerAssignCommand(app);
     lobe::registerInfoCommand(app);
     lobe::registerConvertCommand(app);
 

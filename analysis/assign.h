@@ -1,0 +1,65 @@
+// `lobe assign`: choose each object's BRDF to maximise the scene's separation score
+// (analysis/separation.h) — the paper's "adaptive BRDF" (koldenhof-2003.md, future work).
+//
+// The shortcut that makes it fast is exact: a render with per-model passes (render/aov.h) gives,
+// for every object o and candidate BRDF m, the specular luminance S[o][m] the object would
+// contribute with m, because no BRDF changes any transmittance (opacities come from transfer
+// functions and object opacities; the shading roulette draws on T·α only). The rest of the image
+// (every object's Lambert term and the backdrop) does not depend on the assignment either, so any
+// assignment's image luminance is base + Σ_o S[o][m_o] and its score follows without rendering.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lobe {
+
+struct AssignmentLayers {
+    int width = 0, height = 0;
+    std::vector<std::string> objects;
+    std::vector<std::string> candidates;     // BRDF labels, e.g. "ward" or "ward alpha_x=0.1"
+    std::vector<float> base;                 // luminance of all Lambert terms and the backdrop
+    std::vector<std::vector<float>> specular;  // [object · candidates + candidate] → layer
+    size_t pixelCount() const { return size_t(width) * height; }
+    const std::vector<float>& layer(int object, int candidate) const {
+        return specular[size_t(object) * candidates.size() + size_t(candidate)];
+    }
+};
+
+// Separation score of one assignment (a candidate index per object).
+double assignmentScore(const AssignmentLayers& layers, const std::vector<int>& assignment);
+
+struct AssignOptions {
+    std::vector<int> fixed;             // per object: −1 free, else the candidate it keeps
+    std::vector<bool> allowed;          // per candidate: may be chosen for a free object
+    int top = 10;                       // how many ranked assignments to keep
+    uint64_t exhaustiveLimit = 200000;  // search every assignment up to this many
+    int restarts = 16;                  // local search: random starts besides `start`
+    std::vector<int> start;             // local search: a first start (e.g. the scene's own)
+    uint64_t seed = 1;
+};
+
+struct ScoredAssignment {
+    std::vector<int> assignment;
+    double score = 0.0;
+};
+
+struct AssignResult {
+    std::vector<ScoredAssignment> ranked;  // best first, at most options.top
+    bool exhaustive = false;
+    uint64_t evaluated = 0;  // assignments scored
+    uint64_t space = 0;      // assignments in the search space (saturates at UINT64_MAX)
+};
+
+// Exhaustive when the space is at most options.exhaustiveLimit; otherwise local search: from
+// `start` and `restarts` random assignments, repeatedly give each free object the candidate that
+// scores best with the others held (coordinate ascent) until no object changes.
+AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptions& options);
+
+// How many assignments of the exhaustive space score strictly better than `assignment` (its
+// rank is this + 1); scores every assignment once.
+uint64_t countBetter(const AssignmentLayers& layers, const AssignOptions& options,
+                     const std::vector<int>& assignment);
+
+}  // namespace lobe

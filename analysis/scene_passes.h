@@ -1,0 +1,39 @@
+// From a render's per-object passes (render/aov.h) to the luminance layers the separation score
+// (analysis/separation.h) and the assignment search (analysis/assign.h) work on; and the BRDF
+// candidates `lobe assign` offers (the nine models at their defaults, and with --tune the
+// documented parameter sweep of analysis/properties.h).
+#pragma once
+
+#include "analysis/assign.h"
+#include "analysis/separation.h"
+#include "core/film.h"
+#include "render/aov.h"
+#include "render/scene_description.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lobe {
+
+SeparationLayers separationLayers(const SceneSpec& spec, const Film& beauty, const AovImage& aovs);
+
+struct BrdfCandidate {
+    std::string model;
+    std::vector<std::string> settings;  // key=value over the defaults
+    std::optional<Brdf> brdf;           // when set: this exact BRDF (an object's own, kept)
+    std::string tag;                    // appended to the label, e.g. "(as in the scene)"
+    std::string label() const;          // "ward" or "ward alpha_x=0.1 alpha_y=0.1"
+};
+
+// The nine specular models at their defaults; with `tune`, also each documented sweep setting.
+std::vector<BrdfCandidate> brdfCandidates(bool tune);
+
+// Adds the candidates' BRDFs to a pass request (AovRequest::models / modelBrdfs).
+void requestCandidateLayers(const std::vector<BrdfCandidate>& candidates, AovRequest& request);
+
+// Layers of a render made with requestCandidateLayers (objects' own passes give the base).
+AssignmentLayers assignmentLayers(const SceneSpec& spec, const AovImage& aovs,
+                                  const std::vector<BrdfCandidate>& candidates);
+
+}  // namespace lobe

@@ -1,0 +1,237 @@
+// `lobe assign SCENE --out BEST.json`: chooses each object's BRDF so that the objects' highlights
+// stay apart in the rendering — the paper's proposed "adaptive BRDF". One render at a reduced size
+// (default 256 wide, 2 spp) gives every object's specular layer for every candidate BRDF
+// (render/aov.h); every assignment is then scored from the layers without rendering again
+// (analysis/assign.h explains why that is exact). Writes BEST.json (the scene with the chosen
+// models; image settings and everything else as in the input, data paths made relative to
+// BEST.json's folder) and BEST-assign.md (the ranked table, the scene's own assignment and its
+// rank). Objects can be kept (--keep NAME) and models excluded (--exclude MODEL); --tune adds the
+// documented parameter variants of every model (analysis/properties.h) as candidates.
+#include "apps/commands.h"
+#include "apps/scene_overrides.h"
+#include "analysis/overlap_report.h"
+#include "analysis/scene_passes.h"
+#include "core/error.h"
+#include "materials/registry.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace lobe {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct AssignCommand {
+    std::string scene;
+    std::string out;
+    std::vector<std::string> keep, exclude;
+    SceneOverrides overrides;
+    bool tune = false;
+    bool force = false;
+    bool quiet = false;
+    int top = 10;
+    int threads = 0;
+};
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+// The input scene's JSON with each object's brdf replaced by its chosen candidate and every
+// source path rewritten relative to the output's folder.
+std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandidate>& candidates,
+                            const std::vector<int>& chosen, const std::vector<bool>& kept,
+                            const std::string& outPath) {
+    std::ifstream in(spec.path);
+    nlohmann::json j = nlohmann::json::parse(in);
+    const fs::path outDir = fs::absolute(fs::path(outPath)).parent_path();
+    for (size_t o = 0; o < spec.objects.size(); ++o) {
+        nlohmann::json& object = j["objects"][o];
+        object["source"]["path"] =
+            fs::relative(fs::absolute(spec.objects[o].source.path), outDir).generic_string();
+        if (kept[o]) continue;
+        const BrdfCandidate& c = candidates[size_t(chosen[o])];
+        nlohmann::json brdf = {{"model", c.model}};
+        for (const std::string& kv : c.settings) {
+            const auto eq = kv.find('=');
+            const std::string value = kv.substr(eq + 1);
+            if (value.find(',') == std::string::npos) {
+                brdf[kv.substr(0, eq)] = std::stod(value);
+            } else {
+                nlohmann::json bands = nlohmann::json::array();
+                size_t start = 0;
+                for (size_t comma; (comma = value.find(',', start)) != std::string::npos; start = comma + 1)
+                    bands.push_back(std::stod(value.substr(start, comma - start)));
+                bands.push_back(std::stod(value.substr(start)));
+                brdf[kv.substr(0, eq)] = bands;
+            }
+        }
+        object["brdf"] = brdf;
+    }
+    return j.dump(1) + "\n";
+}
+
+void runAssign(AssignCommand& cmd) {
+    cmd.overrides.validate();
+    if (cmd.top < 1 || cmd.top > 1000) throw Error("--top must be in [1, 1000]");
+    const fs::path out(cmd.out);
+    if (out.extension() != ".json") throw Error("--out: expected a .json scene file, got '" + cmd.out + "'");
+    const std::string report = (out.parent_path() / (out.stem().string() + "-assign.md")).string();
+    if (!cmd.force)
+        for (const std::string& p : {cmd.out, report})
+            if (fs::exists(p)) throw Error("'" + p + "' exists (use --force to replace it)");
+    if (!out.parent_path().empty() && !fs::is_directory(out.parent_path()))
+        throw Error("--out: folder '" + out.parent_path().string() + "' does not exist");
+
+    SceneSpec spec = loadSceneFile(cmd.scene);
+    // Reduced size by default: the layers only need to show where the highlights lie.
+    SceneOverrides o = cmd.overrides;
+    if (o.width <= 0 && o.height <= 0 && !o.preview) o.width = 256;
+    if (o.spp <= 0 && !o.preview) o.spp = 2;
+    const SceneSpec full = spec;
+    o.apply(spec);
+
+    std::set<std::string> excluded;
+    for (const std::string& m : cmd.exclude) {
+        findBrdfModel(m);
+        excluded.insert(m);
+    }
+    std::vector<BrdfCandidate> candidates;
+    for (const BrdfCandidate& c : brdfCandidates(cmd.tune))
+        if (!excluded.count(c.model)) candidates.push_back(c);
+    std::vector<bool> allowed(candidates.size(), true);
+    // Kept objects: their own BRDF, exactly as in the scene, as a candidate only they may use.
+    std::vector<int> fixed(spec.objects.size(), -1);
+    std::vector<bool> kept(spec.objects.size(), false);
+    for (const std::string& name : cmd.keep) {
+        bool found = false;
+        for (size_t i = 0; i < spec.objects.size(); ++i)
+            if (spec.objects[i].name == name) {
+                found = true;
+                kept[i] = true;
+                BrdfCandidate own{spec.objects[i].brdfModel, {}, spec.objects[i].material.specular,
+                                  "(" + name + " as in the scene)"};
+                fixed[i] = int(candidates.size());
+                candidates.push_back(own);
+                allowed.push_back(false);
+            }
+        if (!found) {
+            std::string names;
+            for (const ObjectSpec& obj : spec.objects) names += (names.empty() ? "" : ", ") + obj.name;
+            throw Error("--keep: the scene has no object '" + name + "' (objects: " + names + ")");
+        }
+    }
+    if (std::count(allowed.begin(), allowed.end(), true) == 0)
+        throw Error("--exclude leaves no BRDF to choose from");
+
+    AovRequest request;
+    request.objects = request.backdrop = true;
+    requestCandidateLayers(candidates, request);
+    const auto start = std::chrono::steady_clock::now();
+    const RenderScene scene(spec, !cmd.quiet);
+    RenderOptions options;
+    options.threads = cmd.threads;
+    options.progress = !cmd.quiet;
+    options.label = "assign layers";
+    AovImage aovs;
+    scene.render(options, nullptr, &request, &aovs);
+    const double renderSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const AssignmentLayers layers = assignmentLayers(spec, aovs, candidates);
+
+    AssignOptions search;
+    search.fixed = fixed;
+    search.allowed = allowed;
+    search.top = cmd.top;
+    // The scene's own assignment, where every object's model is a default-parameter candidate.
+    std::vector<int> current(spec.objects.size(), -1);
+    for (size_t i = 0; i < spec.objects.size(); ++i) {
+        if (fixed[i] >= 0) {
+            current[i] = fixed[i];
+            continue;
+        }
+        for (size_t c = 0; c < candidates.size(); ++c)
+            if (candidates[c].model == spec.objects[i].brdfModel && candidates[c].settings.empty() &&
+                !candidates[c].brdf)
+                current[i] = int(c);
+    }
+    const bool hasCurrent = std::find(current.begin(), current.end(), -1) == current.end();
+    if (hasCurrent) search.start = current;
+    const auto searchStart = std::chrono::steady_clock::now();
+    const AssignResult result = searchAssignments(layers, search);
+    const double searchSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - searchStart).count();
+
+    std::string md = "# BRDF assignment: " + full.title + "\n\nScene `" + cmd.scene + "`; layers rendered at " +
+                     std::to_string(spec.width) + "×" + std::to_string(spec.height) + ", " +
+                     std::to_string(spec.samplesPerPixel) + " spp in " + fmt("%.1f", renderSeconds) +
+                     " s; " + std::to_string(candidates.size()) + " candidate BRDFs; " +
+                     (result.exhaustive ? "exhaustive search" : "local search (coordinate ascent, " +
+                                                                    std::to_string(search.restarts + 1) +
+                                                                    " starts)") +
+                     " over " + std::to_string(result.space) + " assignments, " +
+                     std::to_string(result.evaluated) + " scored in " + fmt("%.2f", searchSeconds) +
+                     " s. Score: the separation score (docs/separation.md).\n\n| rank | score |";
+    for (const ObjectSpec& obj : spec.objects) md += " " + obj.name + " |";
+    md += "\n|---:|---:|";
+    for (size_t i = 0; i < spec.objects.size(); ++i) md += "---|";
+    md += "\n";
+    for (size_t r = 0; r < result.ranked.size(); ++r) {
+        md += "| " + std::to_string(r + 1) + " | " + fmt("%.4g", result.ranked[r].score) + " |";
+        for (int c : result.ranked[r].assignment) md += " " + candidates[size_t(c)].label() + " |";
+        md += "\n";
+    }
+    if (hasCurrent) {
+        const double score = assignmentScore(layers, current);
+        md += "\nThe scene's own assignment scores " + fmt("%.4g", score);
+        if (result.exhaustive)
+            md += ", rank " + std::to_string(countBetter(layers, search, current) + 1) + " of " +
+                  std::to_string(result.space);
+        md += ".\n";
+    }
+    const ScoredAssignment& best = result.ranked.front();
+    writeTextFileAtomic(cmd.out, chosenSceneJson(full, candidates, best.assignment, kept, cmd.out));
+    writeTextFileAtomic(report, md);
+    if (!cmd.quiet) {
+        std::fprintf(stderr, "\nbest (score %.4g):", best.score);
+        for (size_t i = 0; i < spec.objects.size(); ++i)
+            std::fprintf(stderr, " %s=%s", spec.objects[i].name.c_str(),
+                         candidates[size_t(best.assignment[i])].label().c_str());
+        std::fprintf(stderr, "\n-> %s, %s\n", cmd.out.c_str(), report.c_str());
+    }
+}
+
+}  // namespace
+
+void registerAssignCommand(CLI::App& app) {
+    static AssignCommand cmd;
+    CLI::App* sub = app.add_subcommand(
+        "assign", "Choose each object's BRDF to maximise the separation of their highlights (the "
+                  "paper's adaptive BRDF); writes the scene with the chosen models");
+    sub->add_option("scene", cmd.scene, "scene file")->required();
+    sub->add_option("--out", cmd.out, "the scene file to write (.json)")->required();
+    sub->add_option("--keep", cmd.keep, "object whose BRDF stays as in the scene (repeatable)");
+    sub->add_option("--exclude", cmd.exclude, "model not to choose (repeatable)");
+    sub->add_flag("--tune", cmd.tune,
+                  "also try each model's documented parameter variants (docs/brdf-properties.md)");
+    sub->add_option("--top", cmd.top, "ranked assignments in the report")->capture_default_str();
+    cmd.overrides.addOptions(*sub);
+    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
+    sub->add_flag("--force", cmd.force, "replace --out and its report if they exist");
+    sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
+    sub->footer("The layers are rendered at 256 pixels wide and 2 spp unless --width/--spp/--preview say otherwise.");
+    sub->callback([] { runAssign(cmd); });
+}
+
+}  // namespace lobe
