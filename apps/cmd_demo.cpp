@@ -49,7 +49,9 @@ void runDemo(const DemoCommand& cmd) {
     const Film film = scene.render(options, &stats);
     const std::string base = (fs::path(cmd.outDir) / "rendering-01").string();
     writeFilm(base + ".exr", film, spec.exposure);
-    writeImage(base + ".png", filmToRgb(film, spec.exposure));
+    RgbImage rgb = filmToRgb(film, spec.exposure);
+    applyTone(rgb, spec.tone);
+    writeImage(base + ".png", rgb);
 
     GalleryOptions gallery;
     gallery.threads = cmd.threads;

@@ -110,7 +110,8 @@ void runRender(const RenderCommand& cmd) {
             appendAovChannels(aov, aovs, names, spec.exposure, extra);
         }
         writeFilm(base + ".exr", film, spec.exposure, extra);
-        const RgbImage rgb = filmToRgb(film, spec.exposure);
+        RgbImage rgb = filmToRgb(film, spec.exposure);
+        applyTone(rgb, spec.tone);
         writeImage(base + ".png", rgb);
         if (!cmd.quiet)
             std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "

@@ -87,7 +87,9 @@ void runSeparation(const SeparationCommand& cmd) {
         writeTextFileAtomic(base.string() + ".md",
                             separationMarkdown(report, layers.objects, spec.title));
         writeTextFileAtomic(base.string() + ".csv", separationCsv(report, layers.objects));
-        writeImage(base.string() + ".png", filmToRgb(film, spec.exposure));
+        RgbImage rgb = filmToRgb(film, spec.exposure);
+        applyTone(rgb, spec.tone);
+        writeImage(base.string() + ".png", rgb);
         fs::create_directories(base);
         for (const PairSeparation& p : report.pairs)
             writeImage((base / (fileSafe(layers.objects[size_t(p.a)]) + "_vs_" +

@@ -40,6 +40,10 @@ struct Spectrum {
     }
     double maxValue() const { return std::max(v[0], std::max(v[1], v[2])); }
     double average() const { return (v[0] + v[1] + v[2]) / 3.0; }
+    bool operator==(const Spectrum& o) const {
+        return v[0] == o.v[0] && v[1] == o.v[1] && v[2] == o.v[2];
+    }
+    bool operator!=(const Spectrum& o) const { return !(*this == o); }
     bool isFinite() const {
         return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
     }

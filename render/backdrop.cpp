@@ -44,7 +44,12 @@ Backdrop::Backdrop(const BackdropSettings& settings, const Vec3& planePoint, con
     resolution_ = settings.cells * perCell;
     std::vector<Spectrum> cells(size_t(settings.cells) * settings.cells);
     Rng rng(settings.seed, 0xbac4d409);
-    for (Spectrum& c : cells) c = Spectrum(rng.uniform(), rng.uniform(), rng.uniform());
+    for (Spectrum& c : cells) {
+        const double r = rng.uniform(), g = rng.uniform(), b = rng.uniform();
+        // Grey: the mean of the same three draws, so the cells' lightness pattern stays that of
+        // the coloured backdrop (a Gelb-effect guard without a hue to tint translucent objects).
+        c = settings.grey ? Spectrum((r + g + b) / 3.0) : Spectrum(r, g, b);
+    }
     std::vector<Spectrum> fine(size_t(resolution_) * resolution_);
     for (int y = 0; y < resolution_; ++y)
         for (int x = 0; x < resolution_; ++x)

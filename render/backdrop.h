@@ -28,6 +28,7 @@ struct BackdropSettings {
     double diffuse = 0.3;
     int cells = 24;
     double blur = 1.5;
+    bool grey = false;  // random lightness per cell, no hue
 };
 
 class Backdrop {

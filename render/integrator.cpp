@@ -97,6 +97,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                 ShadingPoint point;
                 point.material = &vo.spec->material;
                 point.colour = s.colour;
+                point.highlight = vo.spec->highlightTakesLight ? Spectrum(1.0) : s.colour;
                 point.position = s.position;
                 point.hasFrame = s.hasNormal;
                 if (s.hasNormal)
@@ -133,6 +134,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         ShadingPoint point;
         point.material = &so.spec->material;
         point.colour = so.spec->color;
+        point.highlight = so.spec->highlightTakesLight ? Spectrum(1.0) : so.spec->color;
         point.position = hit->position;
         point.frame = Frame::fromNormalAndAxis(hit->normal, so.tangent.axis, so.tangent.fallback);
         const Spectrum L = shade(point, toViewer, spec.lights);

@@ -188,6 +188,7 @@ Scene::Scene(const SceneSpec& spec, bool progress) : spec_(spec) {
         b.diffuse = spec_.backdrop.diffuse;
         b.cells = spec_.backdrop.cells;
         b.blur = spec_.backdrop.blur;
+        b.grey = spec_.backdrop.grey;
         backdrop_ = Backdrop(b, spec_.cameraPosition + forward * depth, forward, camera_.right(),
                              camera_.up(), half * 1.05);
     }

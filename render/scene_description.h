@@ -44,6 +44,11 @@ struct ObjectSpec {
     Material material;
     std::string brdfModel;
     Vec3 tangentAxis{0, 0, 1};   // anisotropy direction: this object axis projected on the surface
+    // What colours the specular highlight: the light's colour (true: the dichromatic reflection
+    // model — the interface of a dielectric reflects all wavelengths alike, the colour of the
+    // object or transfer function is its body colour and tints the Lambert term only; Shafer
+    // 1985) or, as before, the object's colour (false).
+    bool highlightTakesLight = true;
     // Iso-surfaces
     double iso = 0.5;
     std::string method = "exact";  // exact | mesh
@@ -62,6 +67,7 @@ struct BackdropSpec {
     double diffuse = 0.3;
     int cells = 24;       // random colour cells across the backdrop before blurring
     double blur = 1.5;    // Gaussian blur, in cells
+    bool grey = false;    // cells of random lightness but no hue (no tint through glass)
 };
 
 struct SceneSpec {
@@ -73,6 +79,9 @@ struct SceneSpec {
     int samplesPerPixel = 8;
     uint64_t seed = 1;
     double exposure = 1.0;
+    // The display transform of PNG/JPEG output (the EXR stays linear): "clip" at 1, or
+    // "shoulder", linear up to a knee and then rolling off towards white (core/rgb_image.h).
+    std::string tone = "clip";
     Vec3 cameraPosition{0, 0, 4};
     Vec3 cameraTarget{0, 0, 0};
     Vec3 cameraUp{0, 1, 0};

@@ -275,6 +275,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     o.tangentAxis = r.vec3("tangent_axis", Vec3(0, 0, 1));
     if (!(o.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
     o.tangentAxis.normalize();
+    o.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
     if (o.kind == ObjectSpec::Kind::IsoSurface) {
         if (!r.has("iso")) r.fail(r.at("iso"), "missing (the iso value)");
         o.iso = r.number("iso", 0.5, -1e12, 1e12);
@@ -326,6 +327,7 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         scene.samplesPerPixel = img.integer("samples_per_pixel", scene.samplesPerPixel, 1, 4096);
         scene.seed = uint64_t(img.integer("seed", 1, 0, 2147483647));
         scene.exposure = img.number("exposure", 1.0, 1e-6, 1e6);
+        scene.tone = img.string("tone", "clip", {"clip", "shoulder"});
         img.finish();
     }
     if (!r.has("camera")) r.fail("camera", "missing");
@@ -371,6 +373,7 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         scene.backdrop.diffuse = b.number("diffuse", 0.3, 0.0, 10.0);
         scene.backdrop.cells = b.integer("cells", 24, 1, 1024);
         scene.backdrop.blur = b.number("blur", 1.5, 0.0, 100.0);
+        scene.backdrop.grey = b.string("colours", "random", {"random", "grey"}) == "grey";
         b.finish();
     }
     if (r.has("volume")) {

@@ -21,7 +21,7 @@ Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
                            const Vec3& tangentAxis, const Vec3& fallbackAxis) {
     ShadingPoint point;
     point.material = &material;
-    point.colour = sample.colour;
+    point.colour = point.highlight = sample.colour;
     point.position = sample.position;
     point.hasFrame = sample.hasNormal;
     if (sample.hasNormal)
@@ -31,9 +31,13 @@ Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
 
 Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
                const std::vector<PointLight>& lights) {
-    if (point.hasFrame)
-        return point.colour *
-               directLighting(*point.material, point.frame, point.position, toViewer, lights, true);
+    if (point.hasFrame) {
+        if (point.highlight == point.colour)
+            return point.colour * directLighting(*point.material, point.frame, point.position,
+                                                 toViewer, lights, true);
+        const ShadingTerms terms = shadeTerms(point, toViewer, lights);
+        return terms.lambert + terms.specular;
+    }
     Spectrum radiance;
     forEachLight(lights, point.position, [&](const PointLight& light, const Vec3&, double d2) {
         radiance += point.material->kd * kInvPi * light.intensity * (1.0 / d2);
@@ -57,7 +61,7 @@ ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
                                 terms.specular += evalBrdf(m.specular, wi, wo) * light.intensity * g;
                         });
     terms.lambert = point.colour * terms.lambert;
-    terms.specular = point.colour * terms.specular;
+    terms.specular = point.highlight * terms.specular;
     return terms;
 }
 
@@ -73,7 +77,7 @@ void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
                             for (size_t m = 0; m < models.size(); ++m)
                                 out[m] += evalBrdf(models[m], wi, wo) * irradiance;
                         });
-    for (size_t m = 0; m < models.size(); ++m) out[m] = point.colour * out[m];
+    for (size_t m = 0; m < models.size(); ++m) out[m] = point.highlight * out[m];
 }
 
 }  // namespace lobe

@@ -47,14 +47,16 @@ Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
 // shading frame — absent for a volume sample without a usable normal.
 struct ShadingPoint {
     const Material* material = nullptr;
-    Spectrum colour{1.0};
+    Spectrum colour{1.0};     // multiplies the Lambert term
+    Spectrum highlight{1.0};  // multiplies the specular term (the light's colour: 1; or colour)
     Vec3 position{0.0};
     bool hasFrame = true;
     Frame frame;
 };
 
-// colour × two-sided direct lighting (or × the Lambert term with cos θ = 1 without a frame): the
-// value shadeVolumeSample and the integrator's surface shading give, bit for bit.
+// colour × Lambert + highlight × specular, two-sided (without a frame: colour × the Lambert term
+// with cos θ = 1). Where highlight = colour this is colour × directLighting, bit for bit the value
+// of shadeVolumeSample.
 Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
                const std::vector<PointLight>& lights);
 

@@ -1,4 +1,8 @@
+#include "core/error.h"
+#include "core/rgb_image.h"
 #include "core/spectrum.h"
+
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -55,4 +59,32 @@ TEST(Spectrum, SrgbEncodingKnownValues) {
     EXPECT_DOUBLE_EQ(srgbEncode(-1.0), 0.0);
 }
 
+}  // namespace lobe
+
+namespace lobe {
+namespace {
+
+TEST(ToneCurve, ShoulderIsIdentityBelowTheKneeSmoothAboveAndNeverWhite) {
+    EXPECT_EQ(shoulderTone(0.3), 0.3);
+    EXPECT_EQ(shoulderTone(0.6), 0.6);
+    // Slope 1 at the knee from above: (f(k + h) − f(k)) / h → 1.
+    EXPECT_NEAR((shoulderTone(0.6 + 1e-7) - 0.6) / 1e-7, 1.0, 1e-6);
+    double last = 0.6;
+    for (double x = 0.7; x < 12.0; x *= 1.3) {  // (in doubles the curve reaches 1 near x = 15)
+        const double y = shoulderTone(x);
+        EXPECT_GT(y, last);
+        EXPECT_LT(y, 1.0);
+        last = y;
+    }
+    // At x = k + (1 − k) ln 2 the curve is halfway from k to 1.
+    EXPECT_NEAR(shoulderTone(0.6 + 0.4 * std::log(2.0)), 0.8, 1e-12);
+    RgbImage img(1, 1);
+    img.set(0, 0, {0.5, 2.0, 3.0});
+    EXPECT_THROW(applyTone(img, "s-curve"), Error);
+    applyTone(img, "shoulder");
+    EXPECT_FLOAT_EQ(img.pixel(0, 0)[0], 0.5f);
+    EXPECT_LT(img.pixel(0, 0)[2], 1.0f);
+}
+
+}  // namespace
 }  // namespace lobe

@@ -156,3 +156,25 @@ TEST(SceneFile, NumberOverflowIsAnInputError) {
 }
 
 }  // namespace lobe
+
+namespace lobe {
+namespace {
+
+TEST(SceneFile, HighlightToneAndGreyBackdropKeys) {
+    const SceneSpec d = parseScene(validScene(), kBase, "scene.json");
+    EXPECT_TRUE(d.objects[0].highlightTakesLight);  // the dichromatic default
+    EXPECT_EQ(d.tone, "clip");
+    EXPECT_FALSE(d.backdrop.grey);
+    const SceneSpec c = parseScene(validScene(R"(, "highlight": "colour")"), kBase, "scene.json");
+    EXPECT_FALSE(c.objects[0].highlightTakesLight);
+    EXPECT_NE(errorOf(validScene(R"(, "highlight": "white")")).find("objects[0].highlight"),
+              std::string::npos);
+    std::string toned = validScene();
+    toned.replace(toned.find(R"("seed": 3})"), 10, R"("seed": 3, "tone": "shoulder"}, "backdrop": {"colours": "grey"})");
+    const SceneSpec t = parseScene(toned, kBase, "scene.json");
+    EXPECT_EQ(t.tone, "shoulder");
+    EXPECT_TRUE(t.backdrop.grey);
+}
+
+}  // namespace
+}  // namespace lobe

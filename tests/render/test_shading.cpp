@@ -76,3 +76,36 @@ TEST(Shading, SpecularTermIsTheModelsValueTimesIrradiance) {
 
 }  // namespace
 }  // namespace lobe
+
+namespace lobe {
+namespace {
+
+TEST(Shading, HighlightTakesTheLightsColourNotTheBodyColour) {
+    // A blue body colour: the Lambert term is blue, the specular term white (highlight 1), so
+    // shade = colour · lambert + 1 · specular; with highlight = colour it is colour · (both).
+    Material m;
+    m.specular = Phong{};
+    m.kd = Spectrum(0.2);
+    ShadingPoint p;
+    p.material = &m;
+    p.colour = Spectrum(0.1, 0.2, 0.9);
+    p.highlight = Spectrum(1.0);
+    p.frame = Frame::fromNormalAndAxis(Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    const Vec3 wo = normalized(Vec3(0.2, 0.1, 1.0));
+    const std::vector<PointLight> lights = {{Vec3(-wo.x, -wo.y, wo.z) * 3.0, Spectrum(9.0)}};
+    const ShadingTerms t = shadeTerms(p, wo, lights);
+    const Spectrum white = shade(p, wo, lights);
+    for (int b = 0; b < 3; ++b) EXPECT_NEAR(white[b], t.lambert[b] + t.specular[b], 1e-12);
+    // The specular part is the same in every band (Phong's ks is grey): white, not blue.
+    EXPECT_GT(t.specular[0], 0.0);
+    EXPECT_NEAR(t.specular[0], t.specular[2], 1e-12);
+    EXPECT_NEAR(t.lambert[2] / t.lambert[0], 9.0, 1e-9);
+    p.highlight = p.colour;
+    const Spectrum tinted = shade(p, wo, lights);
+    const Spectrum expected = p.colour * directLighting(m, p.frame, p.position, wo, lights, true);
+    for (int b = 0; b < 3; ++b) EXPECT_EQ(tinted[b], expected[b]);
+    EXPECT_LT(tinted[0], white[0]);
+}
+
+}  // namespace
+}  // namespace lobe
