@@ -46,9 +46,10 @@ Backdrop::Backdrop(const BackdropSettings& settings, const Vec3& planePoint, con
     Rng rng(settings.seed, 0xbac4d409);
     for (Spectrum& c : cells) {
         const double r = rng.uniform(), g = rng.uniform(), b = rng.uniform();
-        // Grey: the mean of the same three draws, so the cells' lightness pattern stays that of
-        // the coloured backdrop (a Gelb-effect guard without a hue to tint translucent objects).
-        c = settings.grey ? Spectrum((r + g + b) / 3.0) : Spectrum(r, g, b);
+        // Grey: the first draw as the cell's lightness, uniform in [0, 1) as each colour channel
+        // is — the same spread of light and dark (the Gelb-effect guard) without a hue to tint
+        // what is seen through translucent objects.
+        c = settings.grey ? Spectrum(r) : Spectrum(r, g, b);
     }
     std::vector<Spectrum> fine(size_t(resolution_) * resolution_);
     for (int y = 0; y < resolution_; ++y)

@@ -10,8 +10,18 @@ centre (110, 131, 116) at 45 degrees azimuth from straight-front (front = -y), u
 degree vertical field of view; four point lights sit at the camera +-60 units along its right and
 up axes ("four omni lights ... behind the camera in each corner").
 
+Settings (docs/separation.md says why and measures them): the 2003 reading used until this
+version ("before": lights 60 units off the camera, highlights tinted by the object's colour, the
+density maps one DVR object, colour backdrop, clipped display) and the current one ("after":
+lights behind the camera towards the corners of the view at the objects' depth, highlights in
+the light's colour, each density map its own iso-surface with the paper's per-crossing opacity,
+a grey backdrop, a shoulder tone curve).
+
 Run from the repository root:  python3 scripts/make_paper_scenes.py
+Write the earlier reading elsewhere (for before/after measurements):
+    python3 scripts/make_paper_scenes.py --before DIR
 """
+import argparse
 import json
 import math
 import os
@@ -57,17 +67,31 @@ def unit(a):
     return tuple(x / n for x in a)
 
 
-def camera():
+def camera(before=False):
     position = (CENTRE[0] + DISTANCE * math.sin(AZIMUTH), CENTRE[1] - DISTANCE * math.cos(AZIMUTH),
                 CENTRE[2])
     forward = unit(sub(CENTRE, position))
     right = unit(cross(forward, UP))
     up = cross(right, forward)
     lights = []
+    if before:
+        # 2003 reading: the camera +-60 units along its right and up axes (8.6 degrees off axis).
+        for sr in (-1, 1):
+            for su in (-1, 1):
+                p = [position[i] + 60.0 * sr * right[i] + 60.0 * su * up[i] for i in range(3)]
+                lights.append({"position": [round(x, 3) for x in p], "intensity": LIGHT_INTENSITY})
+        return [round(x, 3) for x in position], lights
+    # "Four omni lights ... all behind the camera in each corner": a plane LIGHT_BEHIND units
+    # behind the camera, each light at one corner of the view's extent at the objects' depth
+    # (half extent DISTANCE tan(fov/2) along right and up), 20 degrees off the view axis; the
+    # intensity gives irradiance 1 at the head's centre (I = d^2).
+    half = DISTANCE * math.tan(math.radians(FOV_DEG / 2.0))
     for sr in (-1, 1):
         for su in (-1, 1):
-            p = [position[i] + 60.0 * sr * right[i] + 60.0 * su * up[i] for i in range(3)]
-            lights.append({"position": [round(x, 3) for x in p], "intensity": LIGHT_INTENSITY})
+            p = [position[i] - LIGHT_BEHIND * forward[i] + half * sr * right[i] + half * su * up[i]
+                 for i in range(3)]
+            d2 = sum((p[i] - CENTRE[i]) ** 2 for i in range(3))
+            lights.append({"position": [round(x, 3) for x in p], "intensity": round(d2, 1)})
     return [round(x, 3) for x in position], lights
 
 
@@ -75,9 +99,9 @@ def brdf(model):
     return {"model": model}
 
 
-def scene(number, group, combo, zoom):
+def scene(number, group, combo, zoom, before=False):
     skull, cortex, density = combo
-    position, lights = camera()
+    position, lights = camera(before)
     cam = {"position": position, "target": list(CENTRE), "up": list(UP), "fov_deg": 30}
     if zoom:
         # The density maps' region, magnified 2.5x: a crop window of the same view (so the
@@ -94,31 +118,54 @@ def scene(number, group, combo, zoom):
         "transform": MNI_TO_WORLD, "transfer_function": CORTEX_TF,
         "reconstruction": "bspline", "gradient": "bspline", "brdf": brdf(cortex), "kd": 0.2,
         "tangent_axis": [0, 0, 1]}]
-    # The four density maps (iso 0.70 / 0.75 / 0.80 / 0.85, opacity 0.3-0.6, blue / green /
-    # yellow / red) share one BRDF in every rendering of the paper, so they are one object with
-    # the four ramps in one transfer function: the same image as four objects, with the grid
-    # reconstructed once per sample instead of four times.
-    objects.append({
-        "name": "density maps", "kind": "volume",
-        "source": {"path": "../../brain/grey_icbm151_smooth8mm_FieldMap.nii.gz"},
-        "transform": MNI_TO_WORLD,
-        "transfer_function": {"preset": "density_maps"},
-        "reconstruction": "trilinear", "gradient": "central", "brdf": brdf(density), "kd": 0.2,
-        "tangent_axis": [0, 0, 1]})
+    if before:
+        # 2003 reading: the four density maps as one DVR object whose transfer function holds
+        # the four ramps (they share one BRDF in every rendering).
+        objects.append({
+            "name": "density maps", "kind": "volume",
+            "source": {"path": "../../brain/grey_icbm151_smooth8mm_FieldMap.nii.gz"},
+            "transform": MNI_TO_WORLD,
+            "transfer_function": {"preset": "density_maps"},
+            "reconstruction": "trilinear", "gradient": "central", "brdf": brdf(density),
+            "kd": 0.2, "tangent_axis": [0, 0, 1]})
+        for o in objects:
+            o["highlight"] = "colour"
+    else:
+        # Figure 10 calls the maps iso-surfaces with opacities 0.3-0.6: each map its own
+        # iso-surface (0.70 / 0.75 / 0.80 / 0.85) with that opacity per crossing, coloured blue /
+        # green / yellow / red, so every map shows wherever the data reaches its level (as a DVR
+        # ramp the red >= 0.85 map covered 0.1 % of the image).
+        for i, (iso, opacity, colour) in enumerate(DENSITY_MAPS):
+            objects.append({
+                "name": "density map %d" % i, "kind": "isosurface",
+                "source": {"path": "../../brain/grey_icbm151_smooth8mm_FieldMap.nii.gz"},
+                "transform": MNI_TO_WORLD, "iso": iso, "method": "exact", "opacity": opacity,
+                "color": colour, "brdf": brdf(density), "kd": 0.2, "tangent_axis": [0, 0, 1]})
     title = "%d%s: %s / %s / %s" % (number, " zoom" if zoom else "", SHORT[skull], SHORT[cortex],
                                     SHORT[density])
+    image = {"width": 1024, "height": 1024, "samples_per_pixel": 8, "seed": 1,
+             "exposure": EXPOSURE_BEFORE if before else EXPOSURE}
+    backdrop = {"seed": 7, "ambient": 0.2, "diffuse": 0.3}
+    if not before:
+        image["tone"] = "shoulder"
+        backdrop["colours"] = "grey"
     return {
         "title": title, "group": group + ("-zoom" if zoom else ""),
-        "image": {"width": 1024, "height": 1024, "samples_per_pixel": 8, "seed": 1,
-                  "exposure": EXPOSURE},
-        "camera": cam, "lights": lights,
-        "backdrop": {"seed": 7, "ambient": 0.2, "diffuse": 0.3},
+        "image": image, "camera": cam, "lights": lights, "backdrop": backdrop,
         "volume": {"step_voxels": STEP_VOXELS},
         "objects": objects}
 
 
 SKULL_OPACITY = 0.15
+EXPOSURE_BEFORE = 2.0
 EXPOSURE = 2.0
+FOV_DEG = 30.0
+LIGHT_BEHIND = 50.0
+# Iso value, opacity per crossing, colour: blue, green, yellow and red as linear sRGB primaries,
+# written as the three bands (volume/transfer_function.h linearSrgbToBands, as the DVR preset).
+DENSITY_MAPS = [(0.70, 0.3, [0.0, 0.087837, 0.880142]), (0.75, 0.4, [0.240203, 0.818643, 0.103307]),
+                (0.80, 0.5, [1.069171, 0.912163, 0.119858]),
+                (0.85, 0.6, [0.828969, 0.093519, 0.016551])]
 STEP_VOXELS = 0.25
 ZOOM_CROP = [0.30, 0.22, 0.70, 0.62]
 # The cortex as a translucent shell at the T1 boundary between CSF (~0.30) and grey matter
@@ -156,7 +203,32 @@ def skull_scene(model):
             "tangent_axis": [0, 0, 1]}]}
 
 
+def write_before(root):
+    """The 24 renderings and close-ups as generated until this version, into root/paper and
+    root/paper-zoom, with absolute data paths (into this checkout's assets/)."""
+    for folder, zoom in (("paper", False), ("paper-zoom", True)):
+        out = os.path.join(root, folder)
+        os.makedirs(out, exist_ok=True)
+        for number, (group, combo) in enumerate(RENDERINGS, start=1):
+            name = "rendering-%02d%s.json" % (number, "-zoom" if zoom else "")
+            sc = scene(number, group, combo, zoom, before=True)
+            for o in sc["objects"]:
+                o["source"]["path"] = os.path.normpath(
+                    os.path.join(ROOT, "assets", "scenes", "paper", o["source"]["path"]))
+            with open(os.path.join(out, name), "w") as f:
+                json.dump(sc, f, indent=1)
+                f.write("\n")
+    print("wrote 48 scenes (2003 reading) under %s" % root)
+
+
 def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--before", metavar="DIR",
+                        help="write the earlier reading's 48 scenes under DIR/paper[-zoom] instead")
+    args = parser.parse_args()
+    if args.before:
+        write_before(args.before)
+        return
     out = os.path.join(ROOT, "assets", "scenes", "skull")
     os.makedirs(out, exist_ok=True)
     for model in SPECULAR:
