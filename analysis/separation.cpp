@@ -16,6 +16,45 @@ std::vector<float> contrastLattice(const std::vector<float>& layer,
     return c;
 }
 
+SeparationLayers mergeObjects(const SeparationLayers& layers, const std::string& name,
+                              const std::vector<std::string>& members) {
+    std::vector<bool> member(layers.objects.size(), false);
+    for (const std::string& m : members) {
+        const auto it = std::find(layers.objects.begin(), layers.objects.end(), m);
+        if (it == layers.objects.end()) {
+            std::string names;
+            for (const std::string& o : layers.objects) names += (names.empty() ? "" : ", ") + o;
+            throw Error("--merge: the scene has no object '" + m + "' (objects: " + names + ")");
+        }
+        member[size_t(it - layers.objects.begin())] = true;
+    }
+    SeparationLayers out;
+    out.width = layers.width;
+    out.height = layers.height;
+    out.beauty = layers.beauty;
+    int merged = -1;
+    for (size_t o = 0; o < layers.objects.size(); ++o) {
+        if (!member[o]) {
+            out.objects.push_back(layers.objects[o]);
+            out.specular.push_back(layers.specular[o]);
+            out.total.push_back(layers.total[o]);
+            continue;
+        }
+        if (merged < 0) {
+            merged = int(out.objects.size());
+            out.objects.push_back(name);
+            out.specular.push_back(layers.specular[o]);
+            out.total.push_back(layers.total[o]);
+            continue;
+        }
+        for (size_t i = 0; i < layers.beauty.size(); ++i) {
+            out.specular[size_t(merged)][i] += layers.specular[o][i];
+            out.total[size_t(merged)][i] += layers.total[o][i];
+        }
+    }
+    return out;
+}
+
 SeparationReport measureSeparation(const SeparationLayers& layers, double threshold) {
     const size_t n = size_t(layers.width) * layers.height;
     const size_t k = layers.objects.size();

@@ -57,6 +57,12 @@ struct SeparationReport {
     double score = 0.0;                 // mean of the pairs' eSum (0 with fewer than 2 objects)
 };
 
+// The layers with `members` summed into one object called `name` (at the first member's place):
+// to score several objects as one, e.g. the four density maps against the paper's single
+// "density maps" object. Throws lobe::Error naming a member that is not an object.
+SeparationLayers mergeObjects(const SeparationLayers& layers, const std::string& name,
+                              const std::vector<std::string>& members);
+
 // Contrast lattice of one layer: layer / beauty, 0 where the beauty is 0.
 std::vector<float> contrastLattice(const std::vector<float>& layer, const std::vector<float>& beauty);
 

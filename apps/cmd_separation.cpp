@@ -31,6 +31,7 @@ struct SeparationCommand {
     double contrast = kWeberContrast;
     int threads = 0;
     bool quiet = false;
+    std::vector<std::string> merge;  // NAME=OBJECT,OBJECT,...
 };
 
 std::string fileSafe(const std::string& s) {
@@ -79,7 +80,18 @@ void runSeparation(const SeparationCommand& cmd) {
         options.label = "separation " + spec.title;
         AovImage aovs;
         const Film film = scene.render(options, nullptr, &request, &aovs);
-        const SeparationLayers layers = separationLayers(spec, film, aovs);
+        SeparationLayers layers = separationLayers(spec, film, aovs);
+        for (const std::string& m : cmd.merge) {
+            const auto eq = m.find('=');
+            if (eq == std::string::npos || eq == 0 || eq + 1 == m.size())
+                throw Error("--merge: expected NAME=OBJECT,OBJECT,..., got '" + m + "'");
+            std::vector<std::string> members;
+            size_t start = eq + 1;
+            for (size_t comma; (comma = m.find(',', start)) != std::string::npos; start = comma + 1)
+                members.push_back(m.substr(start, comma - start));
+            members.push_back(m.substr(start));
+            layers = mergeObjects(layers, m.substr(0, eq), members);
+        }
         const SeparationReport report = measureSeparation(layers, cmd.contrast);
 
         const std::string stem = fs::path(spec.path).stem().string();
@@ -129,6 +141,8 @@ void registerSeparationCommand(CLI::App& app) {
     cmd.overrides.addOptions(*sub);
     sub->add_option("--contrast", cmd.contrast,
                     "Weber contrast at which a highlight counts as seen")->capture_default_str();
+    sub->add_option("--merge", cmd.merge,
+                    "score several objects as one: NAME=OBJECT,OBJECT,... (repeatable)");
     sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->callback([] { runSeparation(cmd); });

@@ -5,6 +5,8 @@
 #include "analysis/assign.h"
 #include "analysis/separation.h"
 
+#include "core/error.h"
+
 #include <gtest/gtest.h>
 
 namespace lobe {
@@ -89,6 +91,19 @@ TEST(Separation, ScoreIsExposureInvariantAndTheFastPathAgrees) {
     for (auto* layer : {&l.specular[0], &l.specular[1], &l.total[0], &l.total[1], &l.beauty})
         for (float& v : *layer) v *= 7.0f;
     EXPECT_NEAR(measureSeparation(l).score, s, 1e-6);
+}
+
+TEST(Separation, MergedObjectsScoreAsOne) {
+    // Three objects: a, and b split into two halves b1, b2; merged, b is the whole box again.
+    SeparationLayers l = twoObjects(40, {0, 10, 0.5}, {20, 30, 0.6});
+    SeparationLayers split = l;
+    split.objects = {"a", "b1", "b2"};
+    split.specular = {l.specular[0], boxLayer(40, {20, 25, 0.6}), boxLayer(40, {25, 30, 0.6})};
+    split.total = split.specular;
+    const SeparationLayers merged = mergeObjects(split, "b", {"b1", "b2"});
+    EXPECT_EQ(merged.objects, (std::vector<std::string>{"a", "b"}));
+    EXPECT_EQ(measureSeparation(merged).score, measureSeparation(l).score);
+    EXPECT_THROW(mergeObjects(split, "b", {"b1", "c"}), Error);
 }
 
 // Two objects, three candidates each, on a 40-pixel image with base luminance 1:
