@@ -13,6 +13,7 @@
 //     random 3-object subsets (the other three held at random models) against exhaustive search.
 // A Markdown report on stdout.
 #include "analysis/overlap_ranking.h"
+#include "analysis/properties.h"
 #include "analysis/scene_passes.h"
 #include "core/rng.h"
 #include "materials/registry.h"
@@ -62,10 +63,57 @@ AssignmentLayers layersOf(const SceneSpec& spec, const std::vector<BrdfCandidate
     return assignmentLayers(spec, aovs, candidates);
 }
 
+// The paper's scene has three BRDF slots: skull, cortex, density maps. Scenes that split the
+// maps into four objects ("density map 0" … "3") fill the third slot with all four: their
+// layers are summed per candidate and scored as one object, as the paper's single object was.
+bool isMap(const std::string& name) { return name.rfind("density map ", 0) == 0; }
+
+std::vector<int> slotOfObject(const SceneSpec& spec) {
+    std::vector<int> slot;
+    int next = 0, mapSlot = -1;
+    for (const ObjectSpec& o : spec.objects) {
+        if (isMap(o.name)) {
+            if (mapSlot < 0) mapSlot = next++;
+            slot.push_back(mapSlot);
+        } else {
+            slot.push_back(next++);
+        }
+    }
+    return slot;
+}
+
+AssignmentLayers mergeMaps(const AssignmentLayers& in, const SceneSpec& spec) {
+    const std::vector<int> slot = slotOfObject(spec);
+    const int slots = *std::max_element(slot.begin(), slot.end()) + 1;
+    AssignmentLayers out;
+    out.width = in.width;
+    out.height = in.height;
+    out.candidates = in.candidates;
+    out.base = in.base;
+    out.objects.resize(size_t(slots));
+    const size_t m = in.candidates.size(), n = in.pixelCount();
+    out.specular.assign(size_t(slots) * m, std::vector<float>(n, 0.0f));
+    for (size_t o = 0; o < in.objects.size(); ++o) {
+        out.objects[size_t(slot[o])] = isMap(in.objects[o]) ? "density maps" : in.objects[o];
+        for (size_t c = 0; c < m; ++c)
+            for (size_t i = 0; i < n; ++i)
+                out.specular[size_t(slot[o]) * m + c][i] += in.layer(int(o), int(c))[i];
+    }
+    return out;
+}
+
+SeparationLayers mergeMapLayers(const SeparationLayers& l) {
+    std::vector<std::string> maps;
+    for (const std::string& o : l.objects)
+        if (isMap(o)) maps.push_back(o);
+    return maps.empty() ? l : mergeObjects(l, "density maps", maps);
+}
+
 double fullRenderScore(SceneSpec spec, const std::vector<BrdfCandidate>& candidates,
                        const std::vector<int>& assignment, int threads) {
+    const std::vector<int> slot = slotOfObject(spec);
     for (size_t o = 0; o < spec.objects.size(); ++o) {
-        const BrdfCandidate& c = candidates[size_t(assignment[o])];
+        const BrdfCandidate& c = candidates[size_t(assignment[size_t(slot[o])])];
         spec.objects[o].material.specular = makeBrdf(c.model, c.settings);
         spec.objects[o].brdfModel = c.model;
     }
@@ -77,7 +125,7 @@ double fullRenderScore(SceneSpec spec, const std::vector<BrdfCandidate>& candida
     request.objects = request.backdrop = true;
     AovImage aovs;
     const Film film = scene.render(options, nullptr, &request, &aovs);
-    return measureSeparation(separationLayers(spec, film, aovs)).score;
+    return measureSeparation(mergeMapLayers(separationLayers(spec, film, aovs))).score;
 }
 
 std::string label(const std::vector<BrdfCandidate>& c, const std::vector<int>& a) {
@@ -96,7 +144,8 @@ int candidateIndex(const std::vector<BrdfCandidate>& c, const std::string& model
 
 int main(int argc, char** argv) {
     int size = 64, spp = 1, threads = 2, manySize = 32, subsets = 20, tuneSize = 64;
-    bool skipFull = false;
+    bool skipFull = false, onlyRenderings = false;
+    std::string paperDir = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
@@ -107,9 +156,12 @@ int main(int argc, char** argv) {
         else if (a == "--subsets") subsets = next();
         else if (a == "--tune-size") tuneSize = next();
         else if (a == "--skip-full") skipFull = true;
+        else if (a == "--paper-dir" && i + 1 < argc) paperDir = argv[++i];
+        else if (a == "--only-renderings") onlyRenderings = true;
         else {
             std::fprintf(stderr, "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
-                                 "[--subsets N] [--tune-size N] [--skip-full]\n", argv[0]);
+                                 "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
+                                 "[--only-renderings]\n", argv[0]);
             return 2;
         }
     }
@@ -117,9 +169,9 @@ int main(int argc, char** argv) {
     const std::vector<BrdfCandidate> nine = brdfCandidates(false);
 
     // 1. Shortcut against full renders.
-    const SceneSpec paper = load(scenes + "paper/rendering-01.json", size, spp);
+    const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
     Clock layerClock;
-    const AssignmentLayers layers = layersOf(paper, nine, threads);
+    const AssignmentLayers layers = mergeMaps(layersOf(paper, nine, threads), paper);
     const double layerWall = layerClock.wallSeconds(), layerCpu = layerClock.cpuSeconds();
     Clock searchClock;
     AssignOptions all;
@@ -127,13 +179,14 @@ int main(int argc, char** argv) {
     const AssignResult shortcut = searchAssignments(layers, all);
     const double searchWall = searchClock.wallSeconds();
     std::printf("# lobe assign: the shortcut against full renders\n\n");
-    std::printf("Paper scene (rendering 1's geometry) at %d² × %d spp, %d threads.\n\n", size, spp, threads);
+    std::printf("Paper scene (rendering 1's geometry, %s) at %d² × %d spp, %d threads.\n\n",
+                paperDir.c_str(), size, spp, threads);
     std::printf("Shortcut: one render with 9 specular layers per object %.2f s wall (%.2f CPU s), "
                 "729 assignments scored in %.3f s. Best: %s (%.4f).\n\n",
                 layerWall, layerCpu, searchWall,
                 label(nine, shortcut.ranked[0].assignment).c_str(), shortcut.ranked[0].score);
     std::vector<double> fromLayers, fromRenders;
-    if (!skipFull) {
+    if (!skipFull && !onlyRenderings) {
         Clock fullClock;
         double maxDiff = 0.0, bestFull = -1.0;
         std::vector<int> bestFullAssignment;
@@ -154,32 +207,62 @@ int main(int argc, char** argv) {
                     maxDiff, agree.kendallTau, agree.discordant, agree.comparable);
     }
 
-    // 2. The paper's renderings among the 729.
-    std::printf("## The paper's 24 renderings among all 729 assignments\n\n"
-                "| rendering | skull / cortex / density maps | score | rank of 729 |\n|---|---|---:|---:|\n");
+    // 2. The paper's renderings among the 729, as rendered and with equal-albedo lobes.
+    // Equal albedo: every candidate's layer scaled so that its directional albedo at normal
+    // incidence (band mean, analysis/properties.h) is 0.1, half the Lambert term's 0.2 — the
+    // lobes' magnitude as a controlled variable, leaving their shape and placement.
+    AssignmentLayers equal = layers;
+    std::printf("## Equal-albedo scale per model (albedo at normal incidence → 0.1)\n\n| model | albedo | scale |\n|---|---:|---:|\n");
+    for (size_t c = 0; c < nine.size(); ++c) {
+        const SpectrumEstimate a = directionalAlbedo(makeBrdf(nine[c].model), 0.0, 0.0, 16384, 8, 7);
+        const double albedo = a.value.average(), k = albedo > 0.0 ? 0.1 / albedo : 1.0;
+        std::printf("| %s | %.4f | %.3f |\n", nine[c].model.c_str(), albedo, k);
+        for (size_t o = 0; o < equal.objects.size(); ++o)
+            for (float& v : equal.specular[o * nine.size() + c]) v = float(v * k);
+    }
+    std::printf("\n## The paper's 24 renderings among all 729 assignments\n\n"
+                "| rendering | skull / cortex / density maps | score | rank of 729 | equal-albedo score | rank |\n"
+                "|---|---|---:|---:|---:|---:|\n");
+    double groupRaw[4] = {0, 0, 0, 0}, groupEqual[4] = {0, 0, 0, 0};
     for (int r = 1; r <= 24; ++r) {
         char name[64];
-        std::snprintf(name, sizeof name, "paper/rendering-%02d.json", r);
-        const SceneSpec s = loadSceneFile(scenes + name);
-        std::vector<int> a;
-        for (const ObjectSpec& o : s.objects) a.push_back(candidateIndex(nine, o.brdfModel));
-        const double score = assignmentScore(layers, a);
-        std::printf("| %d | %s | %.4f | %llu |\n", r, label(nine, a).c_str(), score,
-                    (unsigned long long)(countBetter(layers, all, a) + 1));
+        std::snprintf(name, sizeof name, "/rendering-%02d.json", r);
+        const SceneSpec s = loadSceneFile(paperDir + name);
+        const std::vector<int> slot = slotOfObject(s);
+        std::vector<int> a(size_t(*std::max_element(slot.begin(), slot.end()) + 1), -1);
+        for (size_t o = 0; o < s.objects.size(); ++o)
+            a[size_t(slot[o])] = candidateIndex(nine, s.objects[o].brdfModel);
+        const double score = assignmentScore(layers, a), eq = assignmentScore(equal, a);
+        groupRaw[(r - 1) / 6] += score / 6.0;
+        groupEqual[(r - 1) / 6] += eq / 6.0;
+        std::printf("| %d | %s | %.4f | %llu | %.4f | %llu |\n", r, label(nine, a).c_str(), score,
+                    (unsigned long long)(countBetter(layers, all, a) + 1), eq,
+                    (unsigned long long)(countBetter(equal, all, a) + 1));
     }
-    std::printf("\nTop 5: ");
+    std::printf("\nGroup means (A best by flux overlap, B worst, C one model everywhere, D mixed): "
+                "as rendered A %.4f, B %.4f, C %.4f, D %.4f; equal albedo A %.4f, B %.4f, C %.4f, "
+                "D %.4f.\n",
+                groupRaw[0], groupRaw[1], groupRaw[2], groupRaw[3], groupEqual[0], groupEqual[1],
+                groupEqual[2], groupEqual[3]);
+    const AssignResult bestEqual = searchAssignments(equal, all);
+    std::printf("\nTop 5 as rendered: ");
     for (int i = 0; i < 5; ++i)
         std::printf("%s%s (%.4f)", i ? "; " : "", label(nine, shortcut.ranked[size_t(i)].assignment).c_str(),
                     shortcut.ranked[size_t(i)].score);
-    std::printf(". Bottom: %s (%.4f).\n\n", label(nine, shortcut.ranked.back().assignment).c_str(),
-                shortcut.ranked.back().score);
+    std::printf(". Bottom: %s (%.4f).\nTop 5 with equal albedo: ",
+                label(nine, shortcut.ranked.back().assignment).c_str(), shortcut.ranked.back().score);
+    for (int i = 0; i < 5; ++i)
+        std::printf("%s%s (%.4f)", i ? "; " : "", label(nine, bestEqual.ranked[size_t(i)].assignment).c_str(),
+                    bestEqual.ranked[size_t(i)].score);
+    std::printf(".\n\n");
+    if (onlyRenderings) return 0;
 
     // 3. Tuning.
     {
-        const SceneSpec s = load(scenes + "paper/rendering-01.json", tuneSize, spp);
+        const SceneSpec s = load(paperDir + "/rendering-01.json", tuneSize, spp);
         const std::vector<BrdfCandidate> tuned = brdfCandidates(true);
         Clock c;
-        const AssignmentLayers tl = layersOf(s, tuned, threads);
+        const AssignmentLayers tl = mergeMaps(layersOf(s, tuned, threads), s);
         const double lw = c.wallSeconds();
         Clock c2;
         AssignOptions o;
