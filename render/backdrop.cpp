@@ -45,11 +45,14 @@ Backdrop::Backdrop(const BackdropSettings& settings, const Vec3& planePoint, con
     std::vector<Spectrum> cells(size_t(settings.cells) * settings.cells);
     Rng rng(settings.seed, 0xbac4d409);
     for (Spectrum& c : cells) {
-        const double r = rng.uniform(), g = rng.uniform(), b = rng.uniform();
+        // Blue is drawn first: the order in which GCC evaluated the arguments of the former
+        // Spectrum(rng.uniform(), rng.uniform(), rng.uniform()) (right to left; the order was
+        // unspecified), so the backdrop of every existing scene stays the same.
+        const double b = rng.uniform(), g = rng.uniform(), r = rng.uniform();
         // Grey: the first draw as the cell's lightness, uniform in [0, 1) as each colour channel
         // is — the same spread of light and dark (the Gelb-effect guard) without a hue to tint
         // what is seen through translucent objects.
-        c = settings.grey ? Spectrum(r) : Spectrum(r, g, b);
+        c = settings.grey ? Spectrum(b) : Spectrum(r, g, b);
     }
     std::vector<Spectrum> fine(size_t(resolution_) * resolution_);
     for (int y = 0; y < resolution_; ++y)
