@@ -3,6 +3,7 @@
 // assets/ — and the BRDF gallery into --out, as EXR and PNG. The default size (512², 4 spp)
 // keeps a first run short; --size 1024 --spp 8 gives the paper's settings.
 #include "apps/commands.h"
+#include "apps/data_dir.h"
 #include "render/gallery.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 
 struct DemoCommand {
     std::string outDir = "out";
-    std::string assets = LOBE_ASSET_DIR;
+    std::string assets;  // "" : findAssetsDir()
     int size = 512;
     int spp = 4;
     int threads = 0;
@@ -31,7 +32,12 @@ struct DemoCommand {
 void runDemo(const DemoCommand& cmd) {
     if (cmd.size < 16 || cmd.size > 16384) throw Error("--size must be in [16, 16384]");
     if (cmd.spp < 1 || cmd.spp > 4096) throw Error("--spp must be in [1, 4096]");
-    const fs::path scenePath = fs::path(cmd.assets) / "scenes" / "paper" / "rendering-01.json";
+    const std::string assets = cmd.assets.empty() ? findAssetsDir() : cmd.assets;
+    if (assets.empty())
+        throw Error("cannot find Lobe's assets folder next to the executable (installed: "
+                    "PREFIX/share/lobe/assets; in a build tree: the repository's assets/); give it "
+                    "with --assets");
+    const fs::path scenePath = fs::path(assets) / "scenes" / "paper" / "rendering-01.json";
     if (!fs::exists(scenePath))
         throw Error("cannot find the demo scene '" + scenePath.string() +
                     "' (give the repository's assets folder with --assets)");
@@ -77,7 +83,8 @@ void registerDemoCommand(CLI::App& app) {
     sub->add_option("--size", cmd.size, "image width and height")->capture_default_str();
     sub->add_option("--spp", cmd.spp, "samples per pixel")->capture_default_str();
     sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
-    sub->add_option("--assets", cmd.assets, "the repository's assets folder")->capture_default_str();
+    sub->add_option("--assets", cmd.assets,
+                    "the assets folder (default: found next to the executable, apps/data_dir.h)");
     sub->add_flag("--quiet", cmd.quiet, "no progress display");
     sub->callback([] { runDemo(cmd); });
 }

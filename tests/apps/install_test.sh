@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs the build into a fresh prefix and runs the installed `lobe demo` from an unrelated
+# working directory: the binary must find its data relative to itself (apps/data_dir.h) and carry
+# no build-tree path. Usage: install_test.sh CMAKE BUILD_DIR WORK_DIR
+set -euo pipefail
+cmake_bin=$1 build=$2 work=$3
+rm -rf "$work"
+mkdir -p "$work/elsewhere"
+"$cmake_bin" --install "$build" --prefix "$work/prefix" >/dev/null
+test -x "$work/prefix/bin/lobe"
+test -f "$work/prefix/share/lobe/assets/scenes/paper/rendering-01.json"
+if strings "$work/prefix/bin/lobe" | grep -F -q "$build"; then
+  echo "the installed binary contains the build path $build" >&2
+  exit 1
+fi
+cd "$work/elsewhere"
+"$work/prefix/bin/lobe" demo --size 16 --spp 1 --quiet --out out
+for f in rendering-01.png rendering-01.exr gallery.png gallery.exr; do
+  test -s "out/$f" || { echo "missing out/$f" >&2; exit 1; }
+done
+echo "install test: ok"
