@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lobe {
@@ -95,17 +96,23 @@ TEST(Aov, PassesDoNotDependOnTheThreadCount) {
 }
 
 TEST(Aov, OwnModelLayerEqualsTheSpecularPass) {
-    // Rendering 1: skull Ward (model 1 of the request), cortex Ashikhmin–Shirley (2), density
-    // maps He–Torrance (3).
+    // Rendering 1: skull Ward, cortex Ashikhmin–Shirley, density maps He–Torrance — each one of
+    // the request's models.
     const RenderScene scene(tinyPaperScene(0.03), false);
     const AovRequest request = everything();
     AovImage a;
     renderPasses(scene, 2, &request, &a);
-    const int own[3] = {1, 2, 3};
+    const size_t k = size_t(a.objectCount), m = request.models.size();
+    std::vector<size_t> own;
+    for (const ObjectSpec& o : scene.spec().objects) {
+        const auto it = std::find(request.models.begin(), request.models.end(), o.brdfModel);
+        ASSERT_NE(it, request.models.end()) << o.brdfModel;
+        own.push_back(size_t(it - request.models.begin()));
+    }
     double total = 0.0;
     for (size_t p = 0; p < a.pixelCount(); ++p)
-        for (int o = 0; o < 3; ++o) {
-            const double layer = a.modelSpecular[(p * 3 + size_t(o)) * 4 + size_t(own[o])];
+        for (int o = 0; o < a.objectCount; ++o) {
+            const double layer = a.modelSpecular[(p * k + size_t(o)) * m + own[size_t(o)]];
             const double pass = luminance(a.specularAt(p, o));
             EXPECT_NEAR(layer, pass, 2e-6 * pass + 1e-9) << "pixel " << p << " object " << o;
             total += layer;
@@ -123,7 +130,8 @@ TEST(Aov, TopObjectAndDepthAreConsistent) {
     int objectPixels = 0, backdropPixels = 0;
     for (size_t p = 0; p < a.pixelCount(); ++p) {
         double objects = 0.0;
-        for (int o = 0; o < 3; ++o) objects += luminance(a.lambertAt(p, o) + a.specularAt(p, o));
+        for (int o = 0; o < a.objectCount; ++o)
+            objects += luminance(a.lambertAt(p, o) + a.specularAt(p, o));
         if (objects == 0.0) {
             EXPECT_EQ(a.topObject[p], -1.0f) << p;
             ++backdropPixels;

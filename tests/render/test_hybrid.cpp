@@ -1,5 +1,5 @@
 // The hybrid integrator's depth merge of several volumes, against a closed form: two coloured
-// slabs overlapping along one ray (tests/hybrid/ checks surfaces against slabs, opacity, thread
+// slabs overlapping along one ray (test_hybrid_compositing.cpp checks surfaces against slabs, opacity, thread
 // invariance and skipping; this test checks that samples of two volumes interleave in depth
 // order, which equal-colour slabs cannot show).
 //

@@ -1,0 +1,292 @@
+// The `lobe` command line as a user meets it: exit codes, one error line naming the thing, no
+// output written on bad input, and hand values from `lobe brdf eval`. Each test runs the built
+// binary (LOBE_EXE) in a shell with its own temporary folder, so parallel ctest processes never
+// share files.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kLobe = LOBE_EXE;
+const std::string kSource = LOBE_SOURCE_DIR;
+
+struct CliRun {
+    int exitCode = -1;
+    std::string out, err;
+    int errLines() const {
+        int n = 0;
+        for (char c : err) n += c == '\n';
+        return n;
+    }
+};
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// A folder of the test's own.
+fs::path testDir() {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "cli" /
+                       (std::string(info->test_suite_name()) + "." + info->name());
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+// Runs `lobe ARGS` with `input` on standard input.
+CliRun lobe(const std::string& args, const std::string& input = "") {
+    // Standard streams in files named by the process (ctest runs each test as its own process).
+    const fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "cli" / "_io";
+    fs::create_directories(d);
+    const fs::path in = d / ("in" + std::to_string(::getpid())),
+                   out = d / ("out" + std::to_string(::getpid())),
+                   err = d / ("err" + std::to_string(::getpid()));
+    std::ofstream(in) << input;
+    const std::string cmd = quote(kLobe) + " " + args + " <" + quote(in.string()) + " >" +
+                            quote(out.string()) + " 2>" + quote(err.string());
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readFile(out);
+    r.err = readFile(err);
+    return r;
+}
+
+// ---- lobe brdf ------------------------------------------------------------------------------
+
+// Hand values: Ward (brdf-models.md model 4) with wo the mirror of wi has H = wi + wo along n, so
+// the exponential is exp(0) = 1 and f = rho_s / (4π αx αy sqrt(cos θi cos θo)). At the defaults
+// αx = 0.05, αy = 0.3 and normal incidence: f = rho_s / (4π·0.015) = 5.305164769729845·rho_s,
+// i.e. 0.2652582385, 0.530516477, 1.061032954 (%.10g) for rho_s = 0.05, 0.1, 0.2; at θi = θo = 60°
+// (cos = 0.5) twice that. Inputs need not be unit vectors (the second line is the first scaled),
+// and blank lines are skipped.
+TEST(Cli, BrdfEvalWardHandValues) {
+    const CliRun r = lobe("brdf eval ward rho_s=0.05,0.1,0.2",
+                       "0,0,1,0,0,1\n 0, 0, 2 ,0,0,5\n\n"
+                       "1.7320508075688772,0,1,-1.7320508075688772,0,1\n");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out,
+              "0.2652582385,0.530516477,1.061032954\n0.2652582385,0.530516477,1.061032954\n"
+              "0.530516477,1.061032954,2.122065908\n");
+}
+
+TEST(Cli, BrdfEvalMalformedLineNamesItsNumber) {
+    // Line 3, counting the blank line 2.
+    const CliRun r = lobe("brdf eval ward", "0,0,1,0,0,1\n\n0,0,1,0,zero,1\n");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err.rfind("lobe: error: standard input line 3: expected six comma-separated numbers", 0), 0u) << r.err;
+    EXPECT_EQ(r.errLines(), 1);
+}
+
+TEST(Cli, BrdfEvalUnknownModelAndParameterAreNamed) {
+    CliRun r = lobe("brdf eval blinn");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("unknown BRDF model 'blinn'"), std::string::npos) << r.err;
+    r = lobe("brdf eval ward alpha=0.1");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("unknown parameter 'alpha' for ward"), std::string::npos) << r.err;
+    // Poulin–Fournier's `intervals` changed nothing in a render: no longer a parameter.
+    r = lobe("brdf eval poulin_fournier intervals=64");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("intervals"), std::string::npos) << r.err;
+}
+
+TEST(Cli, BrdfListListsAllTenInThePapersOrder) {
+    const CliRun r = lobe("brdf list");
+    ASSERT_EQ(r.exitCode, 0);
+    std::string names;
+    std::istringstream lines(r.out);
+    for (std::string line; std::getline(lines, line);) {
+        const auto sep = line.find("  (");
+        if (sep != std::string::npos && line[0] >= 'a' && line[0] <= 'z') names += line.substr(0, sep) + " ";
+    }
+    EXPECT_EQ(names, "phong strauss schlick_lewis ward cook_torrance poulin_fournier he_torrance "
+                     "lafortune ashikhmin_shirley lambert ");
+}
+
+// ---- lobe render, demo, contact-sheet ---------------------------------------------------------
+
+// The paper's rendering 1 copied next to the test with a mutation, data paths made absolute.
+std::string sceneWith(const fs::path& dir, const std::string& from, const std::string& to) {
+    std::string text = readFile(kSource + "/assets/scenes/paper/rendering-01.json");
+    for (size_t p; (p = text.find("\"../../")) != std::string::npos;)
+        text.replace(p, 7, "\"" + kSource + "/assets/");
+    if (!from.empty()) {
+        const auto p = text.find(from);
+        EXPECT_NE(p, std::string::npos) << from;
+        text.replace(p, from.size(), to);
+    }
+    const fs::path path = dir / "scene.json";
+    std::ofstream(path) << text;
+    return path.string();
+}
+
+TEST(Cli, RenderBadSceneWritesNothing) {
+    const fs::path d = testDir();
+    const std::string scene = sceneWith(d, "\"iso\": 0.5", "\"iso\": 0.5, \"isovalue\": 0.5");
+    const CliRun r = lobe("render " + quote(scene) + " --out " + quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("objects[0].isovalue: unknown key"), std::string::npos) << r.err;
+    EXPECT_EQ(r.errLines(), 1);
+    EXPECT_FALSE(fs::exists(d / "out"));
+}
+
+TEST(Cli, DemoTinyWritesBothImages) {
+    const fs::path d = testDir() / "demo";
+    const CliRun r = lobe("demo --size 24 --spp 1 --quiet --out " + quote(d.string()));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    for (const char* f : {"rendering-01.png", "rendering-01.exr", "gallery.png", "gallery.exr"})
+        EXPECT_GT(fs::file_size(d / f), 0u) << f;
+}
+
+TEST(Cli, ContactSheetAndAMissingImageNamed) {
+    const fs::path d = testDir();
+    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --quiet --out " + quote(d.string())).exitCode, 0);
+    CliRun r = lobe("contact-sheet --out " + quote((d / "sheet.jpg").string()) + " --thumb 64 " +
+                 quote((d / "gallery.png").string() + "=one") + " " +
+                 quote((d / "gallery.exr").string() + "=two"));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_GT(fs::file_size(d / "sheet.jpg"), 0u);
+    r = lobe("contact-sheet --out " + quote((d / "bad.png").string()) + " " +
+             quote((d / "none.png").string()));
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_NE(r.err.find("none.png"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "bad.png"));
+}
+
+TEST(Cli, RenderPreviewAndRouletteOverrides) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    CliRun r = lobe("render " + quote(scene) + " --preview --width 32 --roulette 0 --no-contact-sheets --out " +
+                 quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("32x32, 1 spp"), std::string::npos) << r.err;
+    EXPECT_GT(fs::file_size(d / "out" / "rendering-01.png"), 0u);
+    r = lobe("render " + quote(scene) + " --roulette 0.7 --out " + quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.errLines(), 1);
+    EXPECT_NE(r.err.find("roulette"), std::string::npos);
+    EXPECT_FALSE(fs::exists(d / "bad"));
+}
+
+TEST(Cli, RenderAovWritesNamedChannelsAndRefusesABadPass) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    CliRun r = lobe("render " + quote(scene) + " --width 16 --spp 1 --aov all --quiet --no-contact-sheets --out " +
+                 quote((d / "out").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string exr = readFile(d / "out" / "rendering-01.exr");
+    for (const char* ch : {"skull.specular.R", "cortex.lambert.G", "density_map_3.specular.B",
+                           "backdrop.R", "depth.Z", "N.X", "object.id"})
+        EXPECT_NE(exr.find(ch), std::string::npos) << ch;
+    r = lobe("render " + quote(scene) + " --aov objects,specularity --out " + quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("--aov: unknown pass 'specularity'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "bad"));
+}
+
+// ---- lobe separation, assign --------------------------------------------------------------------
+
+TEST(Cli, SeparationWritesItsReportAndRefusesCollidingScenes) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    CliRun r = lobe("separation " + quote(scene) + " --width 24 --spp 1 --quiet --out " +
+                 quote((d / "sep").string()) +
+                 " --merge 'density maps=density map 0,density map 1,density map 2,density map 3'");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string md = readFile(d / "sep" / "rendering-01.md");
+    EXPECT_NE(md.find("| skull / cortex |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| cortex / density maps |"), std::string::npos) << md;
+    EXPECT_TRUE(fs::exists(d / "sep" / "rendering-01" / "skull_vs_cortex.png"));
+    EXPECT_TRUE(fs::exists(d / "sep" / "separation.csv"));
+    // The same file name from two folders would write the same files: refused before rendering.
+    fs::create_directories(d / "other");
+    fs::copy_file(sceneWith(d, "", ""), d / "other" / "rendering-01.json");
+    r = lobe("separation " + quote(scene) + " " + quote((d / "other" / "rendering-01.json").string()) +
+             " --out " + quote((d / "sep2").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("would write the same files"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "sep2"));
+    r = lobe("separation " + quote(scene) + " --merge 'maps=density map 9' --width 8 --spp 1 --quiet --out " +
+             quote((d / "sep3").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("no object 'density map 9'"), std::string::npos) << r.err;
+}
+
+TEST(Cli, AssignWritesALoadableSceneAndNeverOverwrites) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    const std::string best = (d / "best.json").string();
+    CliRun r = lobe("assign " + quote(scene) + " --out " + quote(best) +
+                 " --width 24 --spp 1 --keep skull --exclude he_torrance --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string report = readFile(d / "best-assign.md");
+    EXPECT_NE(report.find("| 1 |"), std::string::npos) << report;
+    EXPECT_NE(report.find("skull as in the scene"), std::string::npos) << report;
+    // The chosen scene loads and renders from its own folder; the skull kept its model.
+    const std::string text = readFile(best);
+    EXPECT_NE(text.find("\"model\": \"ward\""), std::string::npos);
+    r = lobe("render " + quote(best) + " --width 16 --spp 1 --quiet --no-contact-sheets --out " +
+             quote((d / "render").string()));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    // Never overwritten without --force; bad options named.
+    r = lobe("assign " + quote(scene) + " --out " + quote(best) + " --width 24 --spp 1 --quiet");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("exists (use --force"), std::string::npos) << r.err;
+    r = lobe("assign " + quote(scene) + " --out " + quote((d / "x.json").string()) + " --keep brain");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("no object 'brain'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "x.json"));
+}
+
+// ---- lobe convert, info ----------------------------------------------------------------------
+
+TEST(Cli, ConvertWithALayoutContradictingTheDataWritesNothing) {
+    const fs::path d = testDir();
+    const CliRun r = lobe("convert " + quote(kSource + "/assets/cthead/cthead_256x256x113_int16be.raw.gz") +
+                          " " + quote((d / "bad.vdb").string()) +
+                          " --dims 256,256,112 --type int16 --endian big");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("cthead_256x256x113_int16be.raw.gz: the layout contradicts the data size"),
+              std::string::npos) << r.err;
+    EXPECT_EQ(r.errLines(), 1);
+    EXPECT_TRUE(fs::is_empty(d));
+}
+
+TEST(Cli, ConvertThenInfoRoundTrips) {
+    const fs::path d = testDir();
+    const std::string vdb = (d / "fieldmap.vdb").string();
+    CliRun r = lobe("convert " + quote(kSource + "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz") +
+                    " " + quote(vdb) + " --name grey");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = lobe("info " + quote(vdb));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* line : {"dimensions", "grid", "active voxels", "voxel (0,0,0)"})
+        EXPECT_NE(r.out.find(line), std::string::npos) << line;
+    EXPECT_NE(r.out.find("91 x 109 x 91"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("grey"), std::string::npos);
+    EXPECT_NE(r.out.find("338634"), std::string::npos);
+    EXPECT_NE(r.out.find("at world (90, -126, -72)"), std::string::npos);
+}
+
+}  // namespace
