@@ -12,6 +12,7 @@
 //     own assignment and 16 random starts) against exhaustive search of all assignments, and on
 //     random 3-object subsets (the other three held at random models) against exhaustive search.
 // A Markdown report on stdout.
+#include "bench/bench_common.h"
 #include "analysis/overlap_ranking.h"
 #include "analysis/properties.h"
 #include "analysis/scene_passes.h"
@@ -34,12 +35,9 @@ using namespace lobe;
 namespace {
 
 struct Clock {
-    std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
-    std::clock_t cpu = std::clock();
-    double wallSeconds() const {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
-    }
-    double cpuSeconds() const { return double(std::clock() - cpu) / CLOCKS_PER_SEC; }
+    bench::Stopwatch watch;
+    double wallSeconds() const { return watch.wall(); }
+    double cpuSeconds() const { return watch.cpu(); }
 };
 
 SceneSpec load(const std::string& path, int size, int spp) {

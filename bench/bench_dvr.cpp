@@ -20,8 +20,7 @@
 // evaluated and skipped lattice points per image, peakRssMB (getrusage ru_maxrss, whole
 // process). LOBE_BENCH_DVR_PPM=<folder> also writes every image as a PPM for a look.
 //
-// The volume is read here by a minimal NIfTI-1 reader (uint8/int16/float32, sform, scl_slope),
-// because the loader library (volume/volume.h) was not committed when this bench was written.
+// The volume is read by the project's loader (volume/volume.h).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>
@@ -38,12 +37,14 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_common.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "core/tile_scheduler.h"
 #include "render/compositor.h"
 #include "render/shading.h"
+#include "volume/volume.h"
 #include "volume/volume_marcher.h"
 
 namespace lobe {
@@ -54,67 +55,6 @@ constexpr int kThreads = 2;
 constexpr double kReferenceStep = 0.02;
 const char* kDataPath =
     LOBE_SHARED_DATA "/spm12_tissue_priors/grey_icbm151_smooth8mm_FieldMap.nii.gz";
-
-// --- Minimal NIfTI-1 reader (NIfTI-1 header layout, nifti1.h: dim at byte 40, datatype 70,
-// vox_offset 108, scl_slope 112, scl_inter 116, sform_code 254, srow_x/y/z 280/296/312). ---
-openvdb::FloatGrid::Ptr readNifti(const std::string& path) {
-    gzFile f = gzopen(path.c_str(), "rb");
-    if (!f) throw Error(path + ": cannot open");
-    std::vector<unsigned char> bytes;
-    unsigned char buf[1 << 16];
-    int n;
-    while ((n = gzread(f, buf, sizeof buf)) > 0) bytes.insert(bytes.end(), buf, buf + n);
-    gzclose(f);
-    if (n < 0 || bytes.size() < 348) throw Error(path + ": not a readable NIfTI-1 file");
-    int32_t sizeofHdr;
-    std::memcpy(&sizeofHdr, bytes.data(), 4);
-    if (sizeofHdr != 348) throw Error(path + ": only little-endian NIfTI-1 is read here");
-    auto i16 = [&](size_t o) {
-        int16_t v;
-        std::memcpy(&v, &bytes[o], 2);
-        return v;
-    };
-    auto f32 = [&](size_t o) {
-        float v;
-        std::memcpy(&v, &bytes[o], 4);
-        return v;
-    };
-    const int nx = i16(42), ny = i16(44), nz = i16(46), type = i16(70);
-    const size_t offset = size_t(f32(108));
-    double slope = f32(112), inter = f32(116);
-    if (slope == 0.0) slope = 1.0;
-    if (i16(254) <= 0) throw Error(path + ": no sform");
-    const int size = type == 2 ? 1 : type == 4 ? 2 : type == 16 ? 4 : 0;
-    if (!size) throw Error(path + ": datatype " + std::to_string(type) + " not read here");
-    if (bytes.size() < offset + size_t(nx) * ny * nz * size) throw Error(path + ": truncated");
-    // sform rows → OpenVDB's row-vector matrix (world = index · M, translation in the last row).
-    openvdb::Mat4d m = openvdb::Mat4d::identity();
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) m(c, r) = f32(280 + 16 * r + 4 * c);
-    auto grid = openvdb::FloatGrid::create(0.0f);
-    grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
-    auto acc = grid->getAccessor();
-    const unsigned char* p = bytes.data() + offset;
-    for (int k = 0; k < nz; ++k)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i, p += size) {
-                double raw;
-                if (type == 2)
-                    raw = *p;
-                else if (type == 4) {
-                    int16_t v;
-                    std::memcpy(&v, p, 2);
-                    raw = v;
-                } else {
-                    float v;
-                    std::memcpy(&v, p, 4);
-                    raw = v;
-                }
-                const double v = raw * slope + inter;
-                if (v != 0.0) acc.setValue(openvdb::Coord(i, j, k), float(v));
-            }
-    return grid;
-}
 
 struct Scene {
     openvdb::FloatGrid::Ptr grid;
@@ -127,7 +67,7 @@ Scene& scene() {
     static Scene s = [] {
         openvdb::initialize();
         Scene sc;
-        sc.grid = readNifti(kDataPath);
+        sc.grid = loadVolume(kDataPath).grid;  // the project's loader (volume/volume.h)
         // Centre of the active box in world; camera 45° from the front (+y, RAS anterior),
         // slightly above, up = +z.
         const openvdb::CoordBBox b = sc.grid->evalActiveVoxelBoundingBox();
@@ -205,11 +145,7 @@ void writePpm(const Image& img, const std::string& path) {
     std::fclose(f);
 }
 
-double peakRssMB() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_maxrss / 1024.0;  // Linux: kilobytes
-}
+double peakRssMB() { return bench::peakRssMb(); }
 
 const Image& reference() {
     static const Image ref = [] {

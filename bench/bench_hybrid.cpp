@@ -26,6 +26,7 @@
 // Usage: lobe_bench_hybrid [--size N (128)] [--threads N (2)] [--reps N (2: best of)]
 //                          [--out DIR: EXR images of the reference and each step]
 // Output: a Markdown report on stdout.
+#include "bench/bench_common.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "core/error.h"
@@ -46,17 +47,9 @@ using namespace lobe;
 
 namespace {
 
-double cpuSeconds() {  // user + system time of the whole process
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-double peakRssMB() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_maxrss / 1024.0;  // Linux: kilobytes
-}
+using bench::cpuSeconds;
+using bench::relativeRmse;
+double peakRssMB() { return bench::peakRssMb(); }
 
 struct Run {
     Film film;
@@ -68,11 +61,13 @@ struct Run {
 
 SceneSpec brainScene(int size) {
     SceneSpec spec =
-        loadSceneFile(std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper/rendering-01.json");
+        // The brain's volume objects: the cortex and the four density maps as DVR objects (the
+        // paper scenes now draw the maps as iso-surfaces; this scene keeps them as volumes).
+        loadSceneFile(std::string(LOBE_SOURCE_DIR) + "/assets/scenes/assign/six-objects.json");
     std::vector<ObjectSpec> volumes;
     for (const ObjectSpec& o : spec.objects)
         if (o.kind == ObjectSpec::Kind::Volume) volumes.push_back(o);
-    if (volumes.size() != 2) throw Error("rendering-01.json: expected the cortex and density maps");
+    if (volumes.size() < 2) throw Error("six-objects.json: expected the cortex and density maps");
     spec.objects = volumes;
     spec.backdrop.enabled = false;
     spec.width = spec.height = size;
@@ -128,19 +123,7 @@ double maxDiff(const Film& a, const Film& b) {
     return m;
 }
 
-double relativeRmse(const Film& img, const Film& ref) {
-    double s = 0, mean = 0;
-    for (size_t i = 0; i < img.pixels().size(); ++i)
-        for (int k = 0; k < kBandCount; ++k) {
-            const double d = img.pixels()[i][k] - ref.pixels()[i][k];
-            s += d * d;
-            mean += ref.pixels()[i][k];
-        }
-    const double n = double(img.pixels().size()) * kBandCount;
-    return std::sqrt(s / n) / (mean / n);
-}
-
-int bench(int size, int threads, int reps, const std::string& out) {
+int runBench(int size, int threads, int reps, const std::string& out) {
     const SceneSpec spec = brainScene(size);
     const double kReferenceStep = 0.02;
     const Run ref = run(spec, kReferenceStep, true, threads, 1);
@@ -226,7 +209,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        return bench(size, threads, reps, out);
+        return runBench(size, threads, reps, out);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "lobe_bench_hybrid: %s\n", e.what());
         return 1;

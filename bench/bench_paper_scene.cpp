@@ -14,6 +14,7 @@
 //     surfaces and no volumes (what is left: camera rays, backdrop, scheduling).
 // Output: a Markdown report on stdout. Checks before reporting: images finite, the scene covers
 // a plausible part of the image (not just backdrop).
+#include "bench/bench_common.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "core/error.h"
@@ -35,18 +36,10 @@ using namespace lobe;
 
 namespace {
 
-double now() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-// CPU seconds of this process so far (user + system, all threads): on a shared machine the
-// render's CPU time over the thread count estimates its wall time when it has the cores alone.
-double cpuSeconds() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
+// CPU seconds of this process (bench_common.h): on a shared machine the render's CPU time over
+// the thread count estimates its wall time when it has the cores alone.
+double now() { return bench::wallSeconds(); }
+using bench::cpuSeconds;
 
 struct Timed {
     double build = 0.0, render = 0.0, renderCpu = 0.0;

@@ -26,6 +26,7 @@
 // samples); each model adds light over the Lambert-only image (its BRDF is really evaluated);
 // the collected pairs give a positive number of evaluations per ray.
 // Output: a Markdown report on stdout.
+#include "bench/bench_common.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "render/shading.h"
@@ -51,16 +52,8 @@ using namespace lobe;
 
 namespace {
 
-double wallNow() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-}
-
-double cpuNow() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
+double wallNow() { return bench::wallSeconds(); }
+double cpuNow() { return bench::cpuSeconds(); }
 
 // The paper's Table 7 (666 MHz Pentium III, one core, 512², CThead only): minutes:seconds.
 struct PaperRow {
