@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <cctype>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -395,6 +397,17 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
 }
 
 SceneSpec loadSceneFile(const std::string& path) {
+    // A volume given where a scene is expected: say what is wanted instead of a JSON error.
+    std::string lower = path;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* ext : {".nii", ".nii.gz", ".nhdr", ".nrrd", ".vdb", ".raw", ".raw.gz", ".dcm"})
+        if (lower.size() >= std::strlen(ext) &&
+            lower.compare(lower.size() - std::strlen(ext), std::string::npos, ext) == 0)
+            throw Error("'" + path + "' is a volume, not a scene file: a scene (JSON) names its "
+                        "volumes, camera and lights (docs/scene-format.md; "
+                        "assets/scenes/paper/rendering-01.json is an example); `lobe info` "
+                        "describes a volume");
+    if (fs::is_directory(path)) throw Error("'" + path + "' is a folder, not a scene file");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot open scene file '" + path + "'");
     std::stringstream ss;

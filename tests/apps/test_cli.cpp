@@ -151,6 +151,16 @@ TEST(Cli, RenderBadSceneWritesNothing) {
     EXPECT_FALSE(fs::exists(d / "out"));
 }
 
+TEST(Cli, RenderOfAVolumeSaysItWantsASceneFile) {
+    const fs::path d = testDir();
+    const CliRun r = lobe("render " + quote(kSource + "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz") +
+                          " --out " + quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("is a volume, not a scene file"), std::string::npos) << r.err;
+    EXPECT_EQ(r.errLines(), 1);
+    EXPECT_FALSE(fs::exists(d / "out"));
+}
+
 TEST(Cli, DemoTinyWritesBothImages) {
     const fs::path d = testDir() / "demo";
     const CliRun r = lobe("demo --size 24 --spp 1 --quiet --out " + quote(d.string()));
