@@ -227,7 +227,9 @@ void registerAssignCommand(CLI::App& app) {
                   "also try each model's documented parameter variants (docs/brdf-properties.md)");
     sub->add_option("--top", cmd.top, "ranked assignments in the report")->capture_default_str();
     cmd.overrides.addOptions(*sub);
-    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
+    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1024));
     sub->add_flag("--force", cmd.force, "replace --out and its report if they exist");
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->footer("The layers are rendered at 256 pixels wide and 2 spp unless --width/--spp/--preview say otherwise.");

@@ -34,6 +34,9 @@ struct RenderCommand {
     bool noContactSheets = false;
     int sheetThumb = 256;
     std::string aov;  // --aov LIST: per-object passes as extra EXR channels
+    bool check = false;         // validate every scene, print every error, render nothing
+    bool skipExisting = false;  // resume: scenes whose EXR and PNG exist are not rendered again
+    bool keepGoing = false;     // a failing scene is reported and the batch goes on
 };
 
 // Scene files named by the inputs: files as given, folders' *.json in name order, list files'
@@ -76,50 +79,98 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
     return scenes;
 }
 
+// Output file names (without extension): the scene file's name in --out, with "-preview" for
+// --preview renders so that a quick look never replaces a full render.
+std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
+    const std::string stem =
+        fs::path(spec.path).stem().string() + (cmd.overrides.preview ? "-preview" : "");
+    return (fs::path(cmd.outDir) / stem).string();
+}
+
 void runRender(const RenderCommand& cmd) {
     cmd.overrides.validate();
     AovRequest aov;
     if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
     const std::vector<std::string> files = collectScenes(cmd);
+
+    // Every scene is read and checked before anything renders; --check prints every error.
     std::vector<SceneSpec> specs;
-    int64_t totalPixels = 0;
+    std::vector<std::string> errors;
+    std::map<std::string, std::string> writerOf;  // output base → scene file
     for (const std::string& f : files) {
-        specs.push_back(loadSceneFile(f));
-        cmd.overrides.apply(specs.back());
-        totalPixels += int64_t(specs.back().width) * specs.back().height;
+        try {
+            SceneSpec spec = loadSceneFile(f);
+            cmd.overrides.apply(spec);
+            const std::string base = outputBase(cmd, spec);
+            const auto [it, fresh] = writerOf.emplace(base, f);
+            if (!fresh)
+                throw Error("scenes '" + it->second + "' and '" + f + "' would both write " + base +
+                            ".exr/.png: rename one, or render them into different --out folders");
+            specs.push_back(std::move(spec));
+        } catch (const Error& e) {
+            if (!cmd.check && !cmd.keepGoing) throw;
+            errors.push_back(e.what());
+            if (!cmd.check) std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
+        }
     }
+    if (cmd.check) {
+        for (const std::string& e : errors) std::fprintf(stderr, "lobe: error: %s\n", e.c_str());
+        if (!errors.empty())
+            throw Error(std::to_string(errors.size()) + " of " + std::to_string(files.size()) +
+                        " scenes have errors");
+        std::printf("%zu scene%s valid\n", files.size(), files.size() == 1 ? "" : "s");
+        return;
+    }
+    int64_t totalPixels = 0;
+    for (const SceneSpec& spec : specs) totalPixels += int64_t(spec.width) * spec.height;
     fs::create_directories(cmd.outDir);
 
     ProgressReporter progress(files.size() == 1 ? "render" : "render batch", totalPixels, !cmd.quiet);
     std::map<std::string, std::vector<ContactSheetEntry>> sheets;
     for (size_t i = 0; i < specs.size(); ++i) {
         const SceneSpec& spec = specs[i];
-        const RenderScene scene(spec, false);
-        RenderOptions options;
-        options.threads = cmd.threads;
-        options.progress = !cmd.quiet;
-        options.sharedProgress = &progress;
-        RenderStats stats;
-        AovImage aovs;
-        const Film film = scene.render(options, &stats, &aov, &aovs);
-        const std::string base = (fs::path(cmd.outDir) / fs::path(spec.path).stem()).string();
-        ImageChannels extra;
-        if (aov.any()) {
-            std::vector<std::string> names;
-            for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
-            appendAovChannels(aov, aovs, names, spec.exposure, extra);
+        const std::string base = outputBase(cmd, spec);
+        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets;
+        if (cmd.skipExisting && fs::exists(base + ".exr") && fs::exists(base + ".png")) {
+            progress.advance(int64_t(spec.width) * spec.height);
+            if (inSheet) sheets[spec.group].push_back({readImage(base + ".png"), spec.title});
+            if (!cmd.quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
+                                         specs.size(), base.c_str());
+            continue;
         }
-        writeFilm(base + ".exr", film, spec.exposure, extra);
-        RgbImage rgb = filmToRgb(film, spec.exposure);
-        applyTone(rgb, spec.tone);
-        writeImage(base + ".png", rgb);
-        if (!cmd.quiet)
-            std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
-                                 "samples (%.1f M shaded) -> %s.png/.exr\n",
-                         i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
-                         spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
-                         stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
-        if (!spec.group.empty() && !cmd.noContactSheets) sheets[spec.group].push_back({rgb, spec.title});
+        try {
+            const RenderScene scene(spec, false);
+            RenderOptions options;
+            options.threads = cmd.threads;
+            options.progress = !cmd.quiet;
+            options.sharedProgress = &progress;
+            RenderStats stats;
+            AovImage aovs;
+            const Film film = scene.render(options, &stats, &aov, &aovs);
+            ImageChannels extra;
+            if (aov.any()) {
+                std::vector<std::string> names;
+                for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
+                appendAovChannels(aov, aovs, names, spec.exposure, extra);
+            }
+            RgbImage rgb = filmToRgb(film, spec.exposure);
+            applyTone(rgb, spec.tone);
+            // PNG first, EXR last: a resumed batch (--skip-existing) takes a scene as done only
+            // when both exist.
+            writeImage(base + ".png", rgb);
+            writeFilm(base + ".exr", film, spec.exposure, extra);
+            if (!cmd.quiet)
+                std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
+                                     "samples (%.1f M shaded) -> %s.png/.exr\n",
+                             i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
+                             spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
+                             stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
+            if (inSheet) sheets[spec.group].push_back({rgb, spec.title});
+        } catch (const Error& e) {
+            if (!cmd.keepGoing) throw;
+            errors.push_back(e.what());
+            std::fprintf(stderr, "\nlobe: error: %s (skipped)\n", e.what());
+        }
     }
     progress.finish();
     for (const auto& [group, entries] : sheets) {
@@ -127,6 +178,9 @@ void runRender(const RenderCommand& cmd) {
         writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
         if (!cmd.quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
     }
+    if (!errors.empty())
+        throw Error(std::to_string(errors.size()) + " of " + std::to_string(files.size()) +
+                    " scenes failed (--keep-going rendered the others)");
 }
 
 }  // namespace
@@ -173,10 +227,18 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--list", cmd.listFile, "a file listing scene files, one per line");
     sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
     cmd.overrides.addOptions(*sub);
-    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
+    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1024));
     sub->add_option("--sheet-thumb", cmd.sheetThumb, "contact sheet thumbnail width")
         ->capture_default_str();
     sub->add_flag("--no-contact-sheets", cmd.noContactSheets, "write no contact sheets");
+    sub->add_flag("--check", cmd.check,
+                  "read and check every scene, print every error, render nothing");
+    sub->add_flag("--skip-existing", cmd.skipExisting,
+                  "do not render scenes whose .exr and .png exist (resume a batch)");
+    sub->add_flag("--keep-going", cmd.keepGoing,
+                  "report a failing scene and go on with the others (exit 1 at the end)");
     sub->add_option("--aov", cmd.aov,
                     "extra EXR passes: all, or a comma list of objects (each object's lambert and "
                     "specular contribution), backdrop, depth, normal, id (object contributing most)");

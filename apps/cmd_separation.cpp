@@ -143,7 +143,9 @@ void registerSeparationCommand(CLI::App& app) {
                     "Weber contrast at which a highlight counts as seen")->capture_default_str();
     sub->add_option("--merge", cmd.merge,
                     "score several objects as one: NAME=OBJECT,OBJECT,... (repeatable)");
-    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
+    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1024));
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->callback([] { runSeparation(cmd); });
 }

@@ -26,7 +26,10 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        // A bad command line is an input error like any other: one line, exit 1.
+        std::fprintf(stderr, "lobe: error: %s (see 'lobe COMMAND --help')\n", e.what());
+        return 1;
     } catch (const lobe::Error& e) {
         std::fprintf(stderr, "lobe: error: %s\n", e.what());
         return 1;

@@ -10,12 +10,17 @@
 namespace lobe {
 
 void SceneOverrides::addOptions(CLI::App& sub) {
+    // Ranges are checked when an option is given (0 / −1 defaults mean "the scene's own").
     sub.add_option("--width", width, "image width (overrides the scenes; keeps the aspect unless "
-                                     "--height is given too)");
-    sub.add_option("--height", height, "image height (overrides the scenes)");
-    sub.add_option("--spp", spp, "samples per pixel (overrides the scenes)");
-    sub.add_option("--step", step, "volume step in voxels (overrides the scenes)");
-    sub.add_option("--seed", seed, "random seed (overrides the scenes)");
+                                     "--height is given too)")
+        ->check(CLI::Range(1, 16384));
+    sub.add_option("--height", height, "image height (overrides the scenes)")
+        ->check(CLI::Range(1, 16384));
+    sub.add_option("--spp", spp, "samples per pixel (overrides the scenes)")->check(CLI::Range(1, 4096));
+    sub.add_option("--step", step, "volume step in voxels, 0.001-16 (overrides the scenes)")
+        ->check(CLI::Range(0.001, 16.0));
+    sub.add_option("--seed", seed, "random seed, 0-2147483647 (overrides the scenes)")
+        ->check(CLI::Range(0LL, 2147483647LL));
     sub.add_option("--roulette", roulette,
                    "shading roulette threshold in [0, 0.5] (overrides the scenes; 0 shades every "
                    "volume sample, docs/scene-format.md)");
@@ -27,7 +32,10 @@ void SceneOverrides::validate() const {
     if (width < 0 || width > 16384 || height < 0 || height > 16384)
         throw Error("--width and --height must be in [1, 16384]");
     if (spp < 0 || spp > 4096) throw Error("--spp must be in [1, 4096]");
-    if (step < 0.0 || step > 16.0) throw Error("--step must be in (0, 16] voxels");
+    // NaN passes CLI11's range checks (every comparison with it is false): refuse it here.
+    if (!std::isfinite(step) || step < 0.0 || step > 16.0)
+        throw Error("--step must be in [0.001, 16] voxels");
+    if (!std::isfinite(roulette)) throw Error("--roulette must be in [0, 0.5]");
     if (roulette != -1.0 && !(roulette >= 0.0 && roulette <= 0.5))
         throw Error("--roulette must be in [0, 0.5]");
 }

@@ -191,12 +191,66 @@ TEST(Cli, RenderPreviewAndRouletteOverrides) {
                  quote((d / "out").string()));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("32x32, 1 spp"), std::string::npos) << r.err;
-    EXPECT_GT(fs::file_size(d / "out" / "rendering-01.png"), 0u);
+    // A preview's names cannot replace a full render's.
+    EXPECT_GT(fs::file_size(d / "out" / "rendering-01-preview.png"), 0u);
+    EXPECT_FALSE(fs::exists(d / "out" / "rendering-01.png"));
     r = lobe("render " + quote(scene) + " --roulette 0.7 --out " + quote((d / "bad").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(r.errLines(), 1);
     EXPECT_NE(r.err.find("roulette"), std::string::npos);
     EXPECT_FALSE(fs::exists(d / "bad"));
+}
+
+TEST(Cli, RenderRefusesOutOfRangeOverridesBeforeWriting) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    for (const char* bad : {"--width 0", "--spp 0", "--seed -1", "--step nan", "--step 1e-9",
+                            "--threads -1", "--height 20000"}) {
+        const CliRun r = lobe("render " + quote(scene) + " " + bad + " --out " + quote((d / "out").string()));
+        EXPECT_NE(r.exitCode, 0) << bad;
+        EXPECT_FALSE(r.err.empty()) << bad;
+        EXPECT_FALSE(fs::exists(d / "out")) << bad;
+    }
+}
+
+TEST(Cli, BatchCollisionsCheckSkipExistingAndKeepGoing) {
+    const fs::path d = testDir();
+    // Two scenes with the same file name in different folders: refused before anything renders.
+    fs::create_directories(d / "a");
+    fs::create_directories(d / "b");
+    const std::string one = sceneWith(d / "a", "", "");
+    fs::copy_file(one, d / "b" / "scene.json");
+    CliRun r = lobe("render " + quote(one) + " " + quote((d / "b" / "scene.json").string()) +
+                    " --width 8 --spp 1 --quiet --out " + quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("would both write"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "out"));
+    // --check names every bad scene and renders nothing.
+    fs::create_directories(d / "c");
+    const std::string bad = sceneWith(d / "c", "\"iso\": 0.5", "\"iso\": 0.5, \"isovalue\": 1");
+    fs::rename(bad, d / "c" / "bad.json");
+    r = lobe("render " + quote(one) + " " + quote((d / "c" / "bad.json").string()) +
+             " --check --out " + quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("bad.json: objects[0].isovalue: unknown key"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("1 of 2 scenes have errors"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "out"));
+    r = lobe("render " + quote(one) + " --check");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("1 scene valid"), std::string::npos) << r.out;
+    // --keep-going renders the good scene, reports the bad one, exits 1.
+    r = lobe("render " + quote(one) + " " + quote((d / "c" / "bad.json").string()) +
+             " --keep-going --width 8 --spp 1 --quiet --out " + quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_TRUE(fs::exists(d / "out" / "scene.exr"));
+    EXPECT_NE(r.err.find("1 of 2 scenes failed"), std::string::npos) << r.err;
+    // --skip-existing leaves a finished scene alone.
+    const auto before = fs::last_write_time(d / "out" / "scene.exr");
+    r = lobe("render " + quote(one) + " --skip-existing --width 8 --spp 1 --out " +
+             quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("exists, skipped"), std::string::npos) << r.err;
+    EXPECT_EQ(fs::last_write_time(d / "out" / "scene.exr"), before);
 }
 
 TEST(Cli, RenderAovWritesNamedChannelsAndRefusesABadPass) {
