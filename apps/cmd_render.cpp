@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <map>
 
 namespace lobe {
@@ -37,7 +38,58 @@ struct RenderCommand {
     bool check = false;         // validate every scene, print every error, render nothing
     bool skipExisting = false;  // resume: scenes whose EXR and PNG exist are not rendered again
     bool keepGoing = false;     // a failing scene is reported and the batch goes on
+    std::string shard;          // "i/N": render part i of N (array jobs; `lobe merge` joins)
 };
+
+// --shard i/N → (i, N); N = 0 when not sharding.
+std::pair<int, int> parseShard(const std::string& text) {
+    if (text.empty()) return {0, 0};
+    const auto slash = text.find('/');
+    int i = -1, n = 0;
+    try {
+        size_t used = 0;
+        i = std::stoi(text.substr(0, slash), &used);
+        if (used != slash) i = -1;
+        n = std::stoi(text.substr(slash + 1), &used);
+        if (slash + 1 + used != text.size()) n = 0;
+    } catch (const std::exception&) {
+        i = -1;
+    }
+    if (slash == std::string::npos || n < 1 || n > 100000 || i < 0 || i >= n)
+        throw Error("--shard: expected I/N with 0 <= I < N <= 100000, got '" + text + "'");
+    return {i, n};
+}
+
+// FNV-1a 64 of a text, in hex: identifies a scene file's content and a run's settings in the
+// header of every shard part, so `lobe merge` joins only parts of the same scene and settings.
+std::string fingerprint(const std::string& text) {
+    uint64_t h = 1469598103934665603ull;
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
+    return buf;
+}
+
+std::string fileText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// What a part's pixels depend on besides the scene file: size, sampling and everything the
+// overrides and --aov set.
+std::string settingsText(const SceneSpec& spec, const std::string& aov) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%dx%d spp %d seed %llu step %.17g roulette %.17g aov ",
+                  spec.width, spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
+                  spec.volumeStepVoxels, spec.shadingRoulette);
+    return buf + aov;
+}
+
+std::string partPath(const std::string& base, int i, int n) {
+    return base + ".part-" + std::to_string(i) + "-of-" + std::to_string(n) + ".exr";
+}
 
 // Scene files named by the inputs: files as given, folders' *.json in name order, list files'
 // lines (relative to the list's folder).
@@ -79,6 +131,24 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
     return scenes;
 }
 
+// The display image of a written EXR: its R, G, B floats (what the render had before writing)
+// through the scene's tone curve — the same pixels a render puts in its contact sheet.
+RgbImage displayFromExr(const std::string& path, const std::string& tone) {
+    const FloatImage image = readFloatImage(path);
+    const auto& names = image.channels.names;
+    const size_t k = names.size();
+    RgbImage rgb(image.width, image.height);
+    for (int c = 0; c < 3; ++c) {
+        const auto it = std::find(names.begin(), names.end(), std::string(1, "RGB"[c]));
+        if (it == names.end()) throw Error(path + ": no channel " + std::string(1, "RGB"[c]));
+        const size_t ch = size_t(it - names.begin());
+        for (size_t p = 0; p < size_t(image.width) * image.height; ++p)
+            rgb.rgb[p * 3 + size_t(c)] = image.channels.data[p * k + ch];
+    }
+    applyTone(rgb, tone);
+    return rgb;
+}
+
 // Output file names (without extension): the scene file's name in --out, with "-preview" for
 // --preview renders so that a quick look never replaces a full render.
 std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
@@ -89,6 +159,7 @@ std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
 
 void runRender(const RenderCommand& cmd) {
     cmd.overrides.validate();
+    const auto [shardIndex, shardCount] = parseShard(cmd.shard);
     AovRequest aov;
     if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
     const std::vector<std::string> files = collectScenes(cmd);
@@ -121,6 +192,15 @@ void runRender(const RenderCommand& cmd) {
         std::printf("%zu scene%s valid\n", files.size(), files.size() == 1 ? "" : "s");
         return;
     }
+    // Sharding: a batch deals its scenes out (scene k goes to part k mod N); one scene is cut
+    // into N bands of rows, each written as a part file for `lobe merge`.
+    const bool rowShards = shardCount > 0 && specs.size() == 1;
+    if (shardCount > 0 && !rowShards) {
+        std::vector<SceneSpec> mine;
+        for (size_t k = 0; k < specs.size(); ++k)
+            if (int(k % size_t(shardCount)) == shardIndex) mine.push_back(std::move(specs[k]));
+        specs = std::move(mine);
+    }
     int64_t totalPixels = 0;
     for (const SceneSpec& spec : specs) totalPixels += int64_t(spec.width) * spec.height;
     fs::create_directories(cmd.outDir);
@@ -130,10 +210,40 @@ void runRender(const RenderCommand& cmd) {
     for (size_t i = 0; i < specs.size(); ++i) {
         const SceneSpec& spec = specs[i];
         const std::string base = outputBase(cmd, spec);
-        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets;
+        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets && shardCount == 0;
+        if (rowShards) {
+            // Rows [y0, y1) of part i: floor(i·H/N) to floor((i+1)·H/N).
+            const int y0 = int(int64_t(shardIndex) * spec.height / shardCount);
+            const int y1 = int(int64_t(shardIndex + 1) * spec.height / shardCount);
+            const std::string part = partPath(base, shardIndex, shardCount);
+            if (cmd.skipExisting && fs::exists(part)) continue;
+            const RenderScene scene(spec, false);
+            RenderOptions options;
+            options.threads = cmd.threads;
+            options.progress = !cmd.quiet;
+            options.rowBegin = y0;
+            options.rowEnd = y1;
+            AovImage aovs;
+            const Film film = scene.render(options, nullptr, &aov, &aovs);
+            ImageChannels extra;
+            if (aov.any()) {
+                std::vector<std::string> names;
+                for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
+                appendAovChannels(aov, aovs, names, spec.exposure, extra);
+            }
+            writeFilm(part, film, spec.exposure, extra,
+                      {{"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
+                       {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
+                       {"lobe:scene", fingerprint(fileText(spec.path))},
+                       {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))}});
+            if (!cmd.quiet) std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1,
+                                         spec.title.c_str(), part.c_str());
+            continue;
+        }
         if (cmd.skipExisting && fs::exists(base + ".exr") && fs::exists(base + ".png")) {
             progress.advance(int64_t(spec.width) * spec.height);
-            if (inSheet) sheets[spec.group].push_back({readImage(base + ".png"), spec.title});
+            if (inSheet)
+                sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
             if (!cmd.quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
                                          specs.size(), base.c_str());
             continue;
@@ -181,6 +291,92 @@ void runRender(const RenderCommand& cmd) {
     if (!errors.empty())
         throw Error(std::to_string(errors.size()) + " of " + std::to_string(files.size()) +
                     " scenes failed (--keep-going rendered the others)");
+}
+
+// `lobe merge SCENES… [--out DIR]`: joins what `--shard` renders wrote into the files one
+// unsharded run writes — the part files of a sharded image (checked: every part present, all
+// from this scene file and the same settings) into NAME.exr and NAME.png, the same floats bit for
+// bit — and writes the contact sheets of the batch.
+void runMerge(const RenderCommand& cmd) {
+    cmd.overrides.validate();
+    const std::vector<std::string> files = collectScenes(cmd);
+    std::map<std::string, std::vector<ContactSheetEntry>> sheets;
+    for (const std::string& f : files) {
+        SceneSpec spec = loadSceneFile(f);
+        cmd.overrides.apply(spec);
+        const std::string base = outputBase(cmd, spec);
+        const std::string stem = fs::path(base).filename().string();
+        // Part files of this scene: STEM.part-I-of-N.exr.
+        std::map<int, std::string> parts;
+        int count = 0;
+        if (fs::is_directory(cmd.outDir))
+            for (const auto& entry : fs::directory_iterator(cmd.outDir)) {
+                const std::string name = entry.path().filename().string();
+                const std::string prefix = stem + ".part-";
+                if (name.rfind(prefix, 0) != 0 || entry.path().extension() != ".exr") continue;
+                int i = -1, n = -1;
+                char tail[8] = {0};
+                if (std::sscanf(name.c_str() + prefix.size(), "%d-of-%d.%4s", &i, &n, tail) != 3 ||
+                    std::string(tail) != "exr")
+                    continue;
+                if (count && n != count)
+                    throw Error(spec.path + ": parts of different shard counts in " + cmd.outDir +
+                                " (" + parts.begin()->second + " and " + name + ")");
+                count = n;
+                parts[i] = entry.path().string();
+            }
+        if (!parts.empty()) {
+            for (int i = 0; i < count; ++i)
+                if (!parts.count(i))
+                    throw Error(spec.path + ": part " + std::to_string(i) + " of " +
+                                std::to_string(count) + " is missing (" + partPath(base, i, count) + ")");
+            const std::string sceneId = fingerprint(fileText(spec.path));
+            const std::string settingsId = fingerprint(settingsText(spec, cmd.aov));
+            FloatImage merged;
+            for (const auto& [i, path] : parts) {
+                FloatImage part = readFloatImage(path);
+                if (part.attributes["lobe:scene"] != sceneId)
+                    throw Error(path + ": rendered from a different scene file than " + spec.path);
+                if (part.attributes["lobe:settings"] != settingsId)
+                    throw Error(path + ": rendered with other settings (size, samples, seed, step, "
+                                "roulette or --aov) than asked for " + spec.path);
+                const int y0 = int(int64_t(i) * spec.height / count);
+                const int y1 = int(int64_t(i + 1) * spec.height / count);
+                if (part.attributes["lobe:rows"] != std::to_string(y0) + " " + std::to_string(y1) ||
+                    part.width != spec.width || part.height != spec.height)
+                    throw Error(path + ": not part " + std::to_string(i) + " of " +
+                                std::to_string(count) + " of a " + std::to_string(spec.width) + "x" +
+                                std::to_string(spec.height) + " image");
+                if (i == 0) {
+                    merged = std::move(part);
+                    continue;
+                }
+                if (part.channels.names != merged.channels.names)
+                    throw Error(path + ": other channels than " + parts.begin()->second);
+                const size_t k = merged.channels.names.size();
+                std::copy(part.channels.data.begin() + long(size_t(y0) * spec.width * k),
+                          part.channels.data.begin() + long(size_t(y1) * spec.width * k),
+                          merged.channels.data.begin() + long(size_t(y0) * spec.width * k));
+            }
+            merged.attributes.clear();
+            writeFloatImage(base + ".exr", merged);
+            // The display image from the merged floats, as a single run makes it from its own.
+            writeImage(base + ".png", displayFromExr(base + ".exr", spec.tone));
+            if (!cmd.quiet)
+                std::fprintf(stderr, "%s: %d parts -> %s.exr/.png\n", spec.title.c_str(), count,
+                             base.c_str());
+        } else if (!(fs::exists(base + ".exr") && fs::exists(base + ".png"))) {
+            throw Error(spec.path + ": neither " + base + ".exr/.png nor part files " + stem +
+                        ".part-I-of-N.exr in " + cmd.outDir);
+        }
+        if (!spec.group.empty() && !cmd.noContactSheets)
+            sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
+    }
+    for (const auto& [group, entries] : sheets) {
+        const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
+        writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
+        if (!cmd.quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
+    }
 }
 
 }  // namespace
@@ -239,11 +435,32 @@ void registerRenderCommand(CLI::App& app) {
                   "do not render scenes whose .exr and .png exist (resume a batch)");
     sub->add_flag("--keep-going", cmd.keepGoing,
                   "report a failing scene and go on with the others (exit 1 at the end)");
+    sub->add_option("--shard", cmd.shard,
+                    "I/N: render part I (0-based) of N — every N-th scene of a batch, or a band of "
+                    "rows of one image written as NAME.part-I-of-N.exr; `lobe merge` joins them "
+                    "(docs/cluster.md)");
     sub->add_option("--aov", cmd.aov,
                     "extra EXR passes: all, or a comma list of objects (each object's lambert and "
                     "specular contribution), backdrop, depth, normal, id (object contributing most)");
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->callback([] { runRender(cmd); });
+
+    static RenderCommand merge;
+    CLI::App* mergeSub = app.add_subcommand(
+        "merge", "Join what `lobe render --shard I/N` wrote (parts of one image, or a batch's "
+                 "scenes) into the files of one run, and write the contact sheets");
+    mergeSub->add_option("scenes", merge.inputs, "the scene files given to the sharded renders");
+    mergeSub->add_option("--list", merge.listFile, "a file listing scene files, one per line");
+    mergeSub->add_option("--out", merge.outDir, "the output folder of the sharded renders")
+        ->capture_default_str();
+    merge.overrides.addOptions(*mergeSub);
+    mergeSub->add_option("--aov", merge.aov, "the --aov the parts were rendered with");
+    mergeSub->add_option("--sheet-thumb", merge.sheetThumb, "contact sheet thumbnail width")
+        ->capture_default_str();
+    mergeSub->add_flag("--no-contact-sheets", merge.noContactSheets, "write no contact sheets");
+    mergeSub->add_flag("--quiet", merge.quiet, "no summary");
+    mergeSub->footer("Give it the same scene files and overrides as the sharded renders.");
+    mergeSub->callback([] { runMerge(merge); });
 }
 
 }  // namespace lobe

@@ -34,7 +34,8 @@ std::string temporarySibling(const std::string& path) {
 }
 
 void writePixels(const std::string& path, int width, int height,
-                 const std::vector<std::string>& channelNames, const std::vector<float>& data) {
+                 const std::vector<std::string>& channelNames, const std::vector<float>& data,
+                 const ImageAttributes& attributes = {}) {
     const std::string ext = lowerExtension(path);
     if (!isSupportedImageExtension(path))
         throw Error("cannot write '" + path + "': unsupported image extension '" + ext +
@@ -51,6 +52,7 @@ void writePixels(const std::string& path, int width, int height,
         spec = OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::FLOAT);
         spec.channelnames = channelNames;
         spec.attribute("compression", "zip");
+        for (const auto& [key, value] : attributes) spec.attribute(key, value);
     } else {
         // 8-bit formats get the display encoding and only the colour channels.
         spec = OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8);
@@ -98,7 +100,7 @@ void writeImage(const std::string& path, const RgbImage& image) {
 }
 
 void writeFilm(const std::string& path, const Film& film, double exposure,
-               const ImageChannels& extra) {
+               const ImageChannels& extra, const ImageAttributes& attributes) {
     const RgbImage rgb = filmToRgb(film, exposure);
     const size_t n = size_t(film.width()) * film.height();
     const size_t k = extra.names.size();
@@ -120,7 +122,31 @@ void writeFilm(const std::string& path, const Film& film, double exposure,
     }
     std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};
     names.insert(names.end(), extra.names.begin(), extra.names.end());
-    writePixels(path, film.width(), film.height(), names, data);
+    writePixels(path, film.width(), film.height(), names, data, attributes);
+}
+
+FloatImage readFloatImage(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    FloatImage image;
+    image.width = spec.width;
+    image.height = spec.height;
+    image.channels.names = spec.channelnames;
+    image.channels.data.resize(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.channels.data.data()))
+        throw Error("cannot read image '" + path + "': " + in->geterror());
+    for (const OIIO::ParamValue& p : spec.extra_attribs) {
+        const std::string name = p.name().string();
+        if (name.rfind("lobe:", 0) == 0 && p.type() == OIIO::TypeDesc::STRING)
+            image.attributes[name] = p.get_string();
+    }
+    return image;
+}
+
+void writeFloatImage(const std::string& path, const FloatImage& image) {
+    writePixels(path, image.width, image.height, image.channels.names, image.channels.data,
+                image.attributes);
 }
 
 RgbImage readImage(const std::string& path) {

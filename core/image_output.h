@@ -9,6 +9,7 @@
 #include "core/film.h"
 #include "core/rgb_image.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,11 +21,25 @@ struct ImageChannels {
     std::vector<float> data;  // [pixel · names.size() + channel]
 };
 
+// String attributes stored in an EXR's header (e.g. "lobe:shard"); 8-bit formats ignore them.
+using ImageAttributes = std::map<std::string, std::string>;
+
 // Throws lobe::Error naming the path when the extension is unsupported or writing fails.
 void writeImage(const std::string& path, const RgbImage& image);
 // `extra` channels (an EXR only; ignored by 8-bit formats) follow R, G, B and the bands.
 void writeFilm(const std::string& path, const Film& film, double exposure = 1.0,
-               const ImageChannels& extra = {});
+               const ImageChannels& extra = {}, const ImageAttributes& attributes = {});
+
+// Every channel of a float image as stored, and its "lobe:" attributes: what `lobe merge`
+// assembles shard parts from, so the merged file holds exactly the floats a single render writes.
+struct FloatImage {
+    int width = 0, height = 0;
+    ImageChannels channels;  // names in the file's order, data interleaved
+    ImageAttributes attributes;
+};
+FloatImage readFloatImage(const std::string& path);
+// Writes a FloatImage (an .exr path) with its attributes.
+void writeFloatImage(const std::string& path, const FloatImage& image);
 
 // Reads any image OpenImageIO understands into linear sRGB (8-bit files are decoded from sRGB).
 RgbImage readImage(const std::string& path);

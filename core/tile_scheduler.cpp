@@ -8,6 +8,7 @@
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
+#include <algorithm>
 #include <vector>
 
 namespace lobe {
@@ -28,12 +29,14 @@ void runWithThreads(int threads, const std::function<void()>& fn) {
 void forEachTile(int width, int height, const SchedulerOptions& options,
                  const std::function<void(const Tile&)>& renderTile) {
     const int size = options.tileSize > 0 ? options.tileSize : 32;
+    const int y0 = std::max(0, options.rowBegin);
+    const int y1 = options.rowEnd < 0 ? height : std::min(height, options.rowEnd);
     std::vector<Tile> tiles;
-    for (int y = 0; y < height; y += size)
+    for (int y = y0; y < y1; y += size)
         for (int x = 0; x < width; x += size)
-            tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
+            tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, y1)});
 
-    ProgressReporter own(options.label, int64_t(width) * height,
+    ProgressReporter own(options.label, int64_t(width) * std::max(0, y1 - y0),
                          options.progress && !options.sharedProgress);
     ProgressReporter& progress = options.sharedProgress ? *options.sharedProgress : own;
     runWithThreads(options.threads, [&] {

@@ -22,6 +22,9 @@ struct SchedulerOptions {
     // When set, pixels are reported to this reporter (one display over a batch of renders)
     // instead of a reporter of the scheduler's own.
     ProgressReporter* sharedProgress = nullptr;
+    // Only the rows [rowBegin, rowEnd) (rowEnd < 0: to the bottom): one shard of an image.
+    int rowBegin = 0;
+    int rowEnd = -1;
 };
 
 // Calls renderTile once for every tile, in parallel. An exception thrown by renderTile stops the

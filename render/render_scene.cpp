@@ -68,6 +68,8 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     scheduler.label = options.label;
     scheduler.tileSize = 16;
     scheduler.sharedProgress = options.sharedProgress;
+    scheduler.rowBegin = options.rowBegin;
+    scheduler.rowEnd = options.rowEnd;
     forEachPixel(film.width(), film.height(), samplingOf(spec), scheduler,
                  [&](const PixelSamples& samples) {
                      if (!withAovs) {

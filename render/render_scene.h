@@ -21,6 +21,7 @@ struct RenderOptions {
     bool progress = true;
     std::string label = "render";
     ProgressReporter* sharedProgress = nullptr;  // see core/tile_scheduler.h
+    int rowBegin = 0, rowEnd = -1;               // render only these rows (a shard; others 0)
 };
 
 class RenderScene {

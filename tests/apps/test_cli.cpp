@@ -269,6 +269,59 @@ TEST(Cli, RenderAovWritesNamedChannelsAndRefusesABadPass) {
     EXPECT_FALSE(fs::exists(d / "bad"));
 }
 
+// ---- shards and merge -------------------------------------------------------------------------
+
+bool sameFile(const fs::path& a, const fs::path& b) { return readFile(a) == readFile(b) && !readFile(a).empty(); }
+
+// Same pixels in every channel of two EXRs: OpenImageIO's idiff with no tolerance.
+bool samePixels(const fs::path& a, const fs::path& b) {
+    const std::string cmd = "idiff -a -fail 0 -failpercent 0 -warn 0 " + quote(a.string()) + " " +
+                            quote(b.string()) + " >/dev/null 2>&1";
+    return std::system(cmd.c_str()) == 0;
+}
+
+TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    const std::string common = " --width 40 --spp 2 --aov objects --quiet ";
+    ASSERT_EQ(lobe("render " + quote(scene) + common + "--out " + quote((d / "one").string())).exitCode, 0);
+    for (int i = 0; i < 3; ++i)
+        ASSERT_EQ(lobe("render " + quote(scene) + common + "--shard " + std::to_string(i) +
+                       "/3 --threads " + std::to_string(1 + i % 2) + " --out " + quote((d / "parts").string()))
+                      .exitCode, 0);
+    EXPECT_FALSE(fs::exists(d / "parts" / "rendering-01.png"));  // parts only, until merged
+    CliRun r = lobe("merge " + quote(scene) + common + "--out " + quote((d / "parts").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(samePixels(d / "one" / "rendering-01.exr", d / "parts" / "rendering-01.exr"));
+    EXPECT_TRUE(sameFile(d / "one" / "rendering-01.png", d / "parts" / "rendering-01.png"));
+    // Parts of other settings, or a missing part, are refused by name.
+    r = lobe("merge " + quote(scene) + " --width 40 --spp 4 --aov objects --out " + quote((d / "parts").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("rendered with other settings"), std::string::npos) << r.err;
+    fs::remove(d / "parts" / "rendering-01.part-1-of-3.exr");
+    r = lobe("merge " + quote(scene) + common + "--out " + quote((d / "parts").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("part 1 of 3 is missing"), std::string::npos) << r.err;
+    r = lobe("render " + quote(scene) + " --shard 3/3 --out " + quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("--shard: expected I/N"), std::string::npos) << r.err;
+}
+
+TEST(Cli, BatchShardsAndMergeWriteTheSingleRunsFilesAndContactSheet) {
+    const fs::path d = testDir();
+    const std::string k = kSource + "/assets/scenes/skull/";
+    const std::string scenes = quote(k + "skull-ward.json") + " " + quote(k + "skull-phong.json") + " " +
+                               quote(k + "skull-lafortune.json") + " --width 24 --spp 1 --quiet ";
+    ASSERT_EQ(lobe("render " + scenes + "--out " + quote((d / "one").string())).exitCode, 0);
+    for (int i = 0; i < 2; ++i)
+        ASSERT_EQ(lobe("render " + scenes + "--shard " + std::to_string(i) + "/2 --out " +
+                       quote((d / "sh").string())).exitCode, 0);
+    ASSERT_EQ(lobe("merge " + scenes + "--out " + quote((d / "sh").string())).exitCode, 0);
+    for (const char* f : {"skull-ward.png", "skull-phong.png", "skull-lafortune.png", "contact-sheet-skull.png"})
+        EXPECT_TRUE(sameFile(d / "one" / f, d / "sh" / f)) << f;
+    EXPECT_TRUE(samePixels(d / "one" / "skull-phong.exr", d / "sh" / "skull-phong.exr"));
+}
+
 // ---- lobe separation, assign --------------------------------------------------------------------
 
 TEST(Cli, SeparationWritesItsReportAndRefusesCollidingScenes) {
