@@ -149,6 +149,16 @@ RgbImage displayFromExr(const std::string& path, const std::string& tone) {
     return rgb;
 }
 
+// The EXR channels of the requested per-object passes (none when no pass was asked for).
+ImageChannels passChannels(const AovRequest& aov, const AovImage& aovs, const SceneSpec& spec) {
+    ImageChannels extra;
+    if (!aov.any()) return extra;
+    std::vector<std::string> names;
+    for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
+    appendAovChannels(aov, aovs, names, spec.exposure, extra);
+    return extra;
+}
+
 // Output file names (without extension): the scene file's name in --out, with "-preview" for
 // --preview renders so that a quick look never replaces a full render.
 std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
@@ -225,12 +235,7 @@ void runRender(const RenderCommand& cmd) {
             options.rowEnd = y1;
             AovImage aovs;
             const Film film = scene.render(options, nullptr, &aov, &aovs);
-            ImageChannels extra;
-            if (aov.any()) {
-                std::vector<std::string> names;
-                for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
-                appendAovChannels(aov, aovs, names, spec.exposure, extra);
-            }
+            const ImageChannels extra = passChannels(aov, aovs, spec);
             writeFilm(part, film, spec.exposure, extra,
                       {{"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
                        {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
@@ -257,12 +262,7 @@ void runRender(const RenderCommand& cmd) {
             RenderStats stats;
             AovImage aovs;
             const Film film = scene.render(options, &stats, &aov, &aovs);
-            ImageChannels extra;
-            if (aov.any()) {
-                std::vector<std::string> names;
-                for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
-                appendAovChannels(aov, aovs, names, spec.exposure, extra);
-            }
+            const ImageChannels extra = passChannels(aov, aovs, spec);
             RgbImage rgb = filmToRgb(film, spec.exposure);
             applyTone(rgb, spec.tone);
             // PNG first, EXR last: a resumed batch (--skip-existing) takes a scene as done only
