@@ -7,6 +7,7 @@
 #include "apps/scene_overrides.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
+#include "core/cluster.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/progress.h"
@@ -19,6 +20,8 @@
 #include <fstream>
 #include <sstream>
 #include <map>
+#include <memory>
+#include <tuple>
 
 namespace lobe {
 namespace {
@@ -159,6 +162,37 @@ ImageChannels passChannels(const AovRequest& aov, const AovImage& aovs, const Sc
     return extra;
 }
 
+// The per-pixel buffers of a render, for gathering the pixels other processes rendered.
+std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
+    std::vector<PixelBuffer> buffers{
+        {reinterpret_cast<unsigned char*>(film.data()), sizeof(Spectrum)}};
+    const size_t pixels = size_t(film.width()) * size_t(film.height());
+    for (std::vector<float>* pass : {&aovs.lambert, &aovs.specular, &aovs.backdrop, &aovs.depth,
+                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular})
+        if (!pass->empty())
+            buffers.push_back({reinterpret_cast<unsigned char*>(pass->data()),
+                               pass->size() / pixels * sizeof(float)});
+    return buffers;
+}
+
+// Renders a loaded scene's image (or its rows [y0, y1)) with the tiles shared among the processes
+// of an mpirun; on rank 0 the result holds every process's pixels.
+Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovRequest& aov,
+                  AovImage& aovs, RenderStats* stats, ProgressReporter* progress, int y0 = 0,
+                  int y1 = -1) {
+    const std::unique_ptr<TileSource> tiles = cluster::sharedTiles();
+    RenderOptions options;
+    options.threads = cmd.threads;
+    options.progress = !cmd.quiet && cluster::isRoot();
+    options.sharedProgress = progress;
+    options.rowBegin = y0;
+    options.rowEnd = y1;
+    options.tileSource = tiles.get();
+    Film film = scene.render(options, stats, &aov, &aovs);
+    cluster::gatherTiles(*tiles, film.width(), pixelBuffers(film, aovs));
+    return film;
+}
+
 // Output file names (without extension): the scene file's name in --out, with "-preview" for
 // --preview renders so that a quick look never replaces a full render.
 std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
@@ -168,32 +202,41 @@ std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
 }
 
 void runRender(const RenderCommand& cmd) {
-    cmd.overrides.validate();
-    const auto [shardIndex, shardCount] = parseShard(cmd.shard);
+    // Under mpirun every process reads the scenes and renders; rank 0 alone prints and writes.
+    const bool root = cluster::isRoot();
+    const bool quiet = cmd.quiet || !root;
+    if (cmd.check && !root) return;
+    int shardIndex = 0, shardCount = 0;
     AovRequest aov;
-    if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
-    const std::vector<std::string> files = collectScenes(cmd);
-
+    std::vector<std::string> files;
     // Every scene is read and checked before anything renders; --check prints every error.
     std::vector<SceneSpec> specs;
     std::vector<std::string> errors;
     std::map<std::string, std::string> writerOf;  // output base → scene file
-    for (const std::string& f : files) {
-        try {
-            SceneSpec spec = loadSceneFile(f);
-            cmd.overrides.apply(spec);
-            const std::string base = outputBase(cmd, spec);
-            const auto [it, fresh] = writerOf.emplace(base, f);
-            if (!fresh)
-                throw Error("scenes '" + it->second + "' and '" + f + "' would both write " + base +
-                            ".exr/.png: rename one, or render them into different --out folders");
-            specs.push_back(std::move(spec));
-        } catch (const Error& e) {
-            if (!cmd.check && !cmd.keepGoing) throw;
-            errors.push_back(e.what());
-            if (!cmd.check) std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
+    const auto validate = [&] {
+        cmd.overrides.validate();
+        std::tie(shardIndex, shardCount) = parseShard(cmd.shard);
+        if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
+        files = collectScenes(cmd);
+        for (const std::string& f : files) {
+            try {
+                SceneSpec spec = loadSceneFile(f);
+                cmd.overrides.apply(spec);
+                const std::string base = outputBase(cmd, spec);
+                const auto [it, fresh] = writerOf.emplace(base, f);
+                if (!fresh)
+                    throw Error("scenes '" + it->second + "' and '" + f + "' would both write " + base +
+                                ".exr/.png: rename one, or render them into different --out folders");
+                specs.push_back(std::move(spec));
+            } catch (const Error& e) {
+                if (!cmd.check && !cmd.keepGoing) throw;
+                errors.push_back(e.what());
+                if (!cmd.check && root) std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
+            }
         }
-    }
+    };
+    if (cmd.check) validate();  // rank 0 alone (the others returned)
+    else cluster::everywhere(validate);
     if (cmd.check) {
         for (const std::string& e : errors) std::fprintf(stderr, "lobe: error: %s\n", e.c_str());
         if (!errors.empty())
@@ -213,9 +256,9 @@ void runRender(const RenderCommand& cmd) {
     }
     int64_t totalPixels = 0;
     for (const SceneSpec& spec : specs) totalPixels += int64_t(spec.width) * spec.height;
-    fs::create_directories(cmd.outDir);
+    if (root) fs::create_directories(cmd.outDir);
 
-    ProgressReporter progress(files.size() == 1 ? "render" : "render batch", totalPixels, !cmd.quiet);
+    ProgressReporter progress(files.size() == 1 ? "render" : "render batch", totalPixels, !quiet);
     std::map<std::string, std::vector<ContactSheetEntry>> sheets;
     for (size_t i = 0; i < specs.size(); ++i) {
         const SceneSpec& spec = specs[i];
@@ -226,42 +269,38 @@ void runRender(const RenderCommand& cmd) {
             const int y0 = int(int64_t(shardIndex) * spec.height / shardCount);
             const int y1 = int(int64_t(shardIndex + 1) * spec.height / shardCount);
             const std::string part = partPath(base, shardIndex, shardCount);
-            if (cmd.skipExisting && fs::exists(part)) continue;
-            const RenderScene scene(spec, false);
-            RenderOptions options;
-            options.threads = cmd.threads;
-            options.progress = !cmd.quiet;
-            options.rowBegin = y0;
-            options.rowEnd = y1;
+            if (cluster::broadcast(cmd.skipExisting && fs::exists(part))) continue;
+            std::unique_ptr<RenderScene> scene;
+            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false); });
             AovImage aovs;
-            const Film film = scene.render(options, nullptr, &aov, &aovs);
+            const Film film = renderShared(*scene, cmd, aov, aovs, nullptr, nullptr, y0, y1);
+            if (!root) continue;
             const ImageChannels extra = passChannels(aov, aovs, spec);
             writeFilm(part, film, spec.exposure, extra,
                       {{"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
                        {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
                        {"lobe:scene", fingerprint(fileText(spec.path))},
                        {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))}});
-            if (!cmd.quiet) std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1,
+            if (!quiet) std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1,
                                          spec.title.c_str(), part.c_str());
             continue;
         }
-        if (cmd.skipExisting && fs::exists(base + ".exr") && fs::exists(base + ".png")) {
+        if (cluster::broadcast(cmd.skipExisting && fs::exists(base + ".exr") &&
+                               fs::exists(base + ".png"))) {
             progress.advance(int64_t(spec.width) * spec.height);
-            if (inSheet)
+            if (inSheet && root)
                 sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
-            if (!cmd.quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
+            if (!quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
                                          specs.size(), base.c_str());
             continue;
         }
         try {
-            const RenderScene scene(spec, false);
-            RenderOptions options;
-            options.threads = cmd.threads;
-            options.progress = !cmd.quiet;
-            options.sharedProgress = &progress;
+            std::unique_ptr<RenderScene> scene;
+            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false); });
             RenderStats stats;
             AovImage aovs;
-            const Film film = scene.render(options, &stats, &aov, &aovs);
+            const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress);
+            if (!root) continue;
             const ImageChannels extra = passChannels(aov, aovs, spec);
             RgbImage rgb = filmToRgb(film, spec.exposure);
             applyTone(rgb, spec.tone);
@@ -269,28 +308,44 @@ void runRender(const RenderCommand& cmd) {
             // when both exist.
             writeImage(base + ".png", rgb);
             writeFilm(base + ".exr", film, spec.exposure, extra);
-            if (!cmd.quiet)
+            if (!quiet && cluster::distributed())  // rank 0's counts are only its share
+                std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
+                                     "%s.png/.exr\n",
+                             i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
+                             spec.samplesPerPixel, stats.seconds, cluster::size(), base.c_str());
+            else if (!quiet)
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
                                      "samples (%.1f M shaded) -> %s.png/.exr\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                              spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
                              stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
             if (inSheet) sheets[spec.group].push_back({rgb, spec.title});
-        } catch (const Error& e) {
+        } catch (const cluster::CollectiveError& e) {
+            // A scene that failed to load on some process: every process skips it.
             if (!cmd.keepGoing) throw;
+            errors.push_back(e.what());
+            if (e.reportHere()) std::fprintf(stderr, "\nlobe: error: %s (skipped)\n", e.what());
+        } catch (const Error& e) {
+            if (!cmd.keepGoing || cluster::distributed()) throw;
             errors.push_back(e.what());
             std::fprintf(stderr, "\nlobe: error: %s (skipped)\n", e.what());
         }
     }
     progress.finish();
-    for (const auto& [group, entries] : sheets) {
-        const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
-        writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
-        if (!cmd.quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
+    if (root)
+        for (const auto& [group, entries] : sheets) {
+            const std::string path =
+                (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
+            writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
+            if (!quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
+        }
+    if (!errors.empty()) {
+        const std::string message = std::to_string(errors.size()) + " of " +
+                                    std::to_string(files.size()) +
+                                    " scenes failed (--keep-going rendered the others)";
+        if (cluster::distributed()) throw cluster::CollectiveError(message, root);
+        throw Error(message);
     }
-    if (!errors.empty())
-        throw Error(std::to_string(errors.size()) + " of " + std::to_string(files.size()) +
-                    " scenes failed (--keep-going rendered the others)");
 }
 
 // `lobe merge SCENES… [--out DIR]`: joins what `--shard` renders wrote into the files one

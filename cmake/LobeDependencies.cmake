@@ -30,3 +30,12 @@ endif()
 if(LOBE_BUILD_BENCHMARKS)
   find_package(benchmark CONFIG REQUIRED)
 endif()
+
+# Open MPI (Debian libopenmpi-dev) is optional: found → `lobe render` shares tiles across the
+# processes of an mpirun (core/cluster.h); absent → lobe works as a single process.
+option(LOBE_WITH_MPI "Build MPI support when an MPI library is found" ON)
+if(LOBE_WITH_MPI)
+  set(MPI_CXX_SKIP_MPICXX ON)  # the C API only; no C++ bindings
+  find_package(MPI COMPONENTS CXX)
+endif()
+find_program(LOBE_MPIEXEC NAMES mpirun mpiexec)

@@ -18,6 +18,7 @@ public:
     Spectrum& at(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
     const Spectrum& at(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
     const std::vector<Spectrum>& pixels() const { return pixels_; }
+    Spectrum* data() { return pixels_.data(); }
 
 private:
     int width_ = 0;

@@ -2,7 +2,6 @@
 
 #include "core/progress.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <pmmintrin.h>
@@ -26,8 +25,7 @@ void runWithThreads(int threads, const std::function<void()>& fn) {
     });
 }
 
-void forEachTile(int width, int height, const SchedulerOptions& options,
-                 const std::function<void(const Tile&)>& renderTile) {
+std::vector<Tile> imageTiles(int width, int height, const SchedulerOptions& options) {
     const int size = options.tileSize > 0 ? options.tileSize : 32;
     const int y0 = std::max(0, options.rowBegin);
     const int y1 = options.rowEnd < 0 ? height : std::min(height, options.rowEnd);
@@ -35,22 +33,49 @@ void forEachTile(int width, int height, const SchedulerOptions& options,
     for (int y = y0; y < y1; y += size)
         for (int x = 0; x < width; x += size)
             tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, y1)});
+    return tiles;
+}
 
-    ProgressReporter own(options.label, int64_t(width) * std::max(0, y1 - y0),
-                         options.progress && !options.sharedProgress);
+void LocalTileSource::begin(const std::vector<Tile>& tiles, ProgressReporter& progress) {
+    tiles_ = &tiles;
+    progress_ = &progress;
+    counter_ = 0;
+}
+
+int LocalTileSource::next(int /*slot*/, int finished) {
+    if (finished >= 0) progress_->advance(tilePixels((*tiles_)[size_t(finished)]));
+    const int i = counter_.fetch_add(1);
+    return i < int(tiles_->size()) ? i : -1;
+}
+
+void forEachTile(int width, int height, const SchedulerOptions& options,
+                 const std::function<void(const Tile&)>& renderTile) {
+    const std::vector<Tile> tiles = imageTiles(width, height, options);
+    int64_t pixels = 0;
+    for (const Tile& t : tiles) pixels += tilePixels(t);
+    ProgressReporter own(options.label, pixels, options.progress && !options.sharedProgress);
     ProgressReporter& progress = options.sharedProgress ? *options.sharedProgress : own;
+    LocalTileSource local;
+    TileSource& source = options.tileSource ? *options.tileSource : local;
+    source.begin(tiles, progress);
+    // One loop per worker: each asks the source for tiles until none is left. A tile that
+    // throws stops every loop; the exception reaches the caller.
+    std::atomic<bool> failed{false};
     runWithThreads(options.threads, [&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1),
-                          [&](const tbb::blocked_range<size_t>& range) {
-                              setFlushToZero();
-                              for (size_t i = range.begin(); i != range.end(); ++i) {
-                                  const Tile& tile = tiles[i];
-                                  renderTile(tile);
-                                  progress.advance(int64_t(tile.x1 - tile.x0) *
-                                                   (tile.y1 - tile.y0));
-                              }
-                          });
+        const int workers = tbb::this_task_arena::max_concurrency();
+        tbb::parallel_for(0, workers, 1, [&](int slot) {
+            setFlushToZero();
+            for (int i = source.next(slot, -1); i >= 0 && !failed; i = source.next(slot, i)) {
+                try {
+                    renderTile(tiles[size_t(i)]);
+                } catch (...) {
+                    failed = true;
+                    throw;
+                }
+            }
+        });
     });
+    source.end();
     own.finish();
 }
 

@@ -3,8 +3,11 @@
 // (core/rng.h) so that the image is the same for any thread count.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -13,6 +16,37 @@ class ProgressReporter;
 struct Tile {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // pixel range [x0,x1) × [y0,y1)
 };
+
+// Where the tiles of one image come from. Every worker thread asks for its next tile until there
+// is none left; the default source counts through the image's tiles in this process. The cluster
+// source (core/cluster.h) shares them with the other processes of an mpirun.
+class TileSource {
+public:
+    virtual ~TileSource() = default;
+    // Before any tile of an image: its tiles (row-major) and the display to advance as tiles end.
+    virtual void begin(const std::vector<Tile>& tiles, ProgressReporter& progress) = 0;
+    // The index of the next tile for worker `slot` to render, or -1 when none is left;
+    // `finished` is the tile that worker rendered last (-1 on its first call). Thread-safe.
+    virtual int next(int slot, int finished) = 0;
+    // After every worker of this process got -1.
+    virtual void end() = 0;
+};
+
+// The tiles of an image in order, for the threads of this process alone.
+class LocalTileSource : public TileSource {
+public:
+    void begin(const std::vector<Tile>& tiles, ProgressReporter& progress) override;
+    int next(int slot, int finished) override;
+    void end() override {}
+
+private:
+    const std::vector<Tile>* tiles_ = nullptr;
+    ProgressReporter* progress_ = nullptr;
+    std::atomic<int> counter_{0};
+};
+
+// Pixels in a tile.
+inline int64_t tilePixels(const Tile& t) { return int64_t(t.x1 - t.x0) * (t.y1 - t.y0); }
 
 struct SchedulerOptions {
     int threads = 0;      // 0: all hardware threads
@@ -25,7 +59,13 @@ struct SchedulerOptions {
     // Only the rows [rowBegin, rowEnd) (rowEnd < 0: to the bottom): one shard of an image.
     int rowBegin = 0;
     int rowEnd = -1;
+    // Where the tiles come from (nullptr: this process renders them all).
+    TileSource* tileSource = nullptr;
 };
+
+// The tiles forEachTile renders for an image: tileSize squares row by row, clipped to the image
+// and to [rowBegin, rowEnd).
+std::vector<Tile> imageTiles(int width, int height, const SchedulerOptions& options);
 
 // Calls renderTile once for every tile, in parallel. An exception thrown by renderTile stops the
 // render and is rethrown here.

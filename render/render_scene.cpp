@@ -70,6 +70,7 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     scheduler.sharedProgress = options.sharedProgress;
     scheduler.rowBegin = options.rowBegin;
     scheduler.rowEnd = options.rowEnd;
+    scheduler.tileSource = options.tileSource;
     forEachPixel(film.width(), film.height(), samplingOf(spec), scheduler,
                  [&](const PixelSamples& samples) {
                      if (!withAovs) {

@@ -15,6 +15,7 @@
 namespace lobe {
 
 class ProgressReporter;
+class TileSource;
 
 struct RenderOptions {
     int threads = 0;
@@ -22,6 +23,7 @@ struct RenderOptions {
     std::string label = "render";
     ProgressReporter* sharedProgress = nullptr;  // see core/tile_scheduler.h
     int rowBegin = 0, rowEnd = -1;               // render only these rows (a shard; others 0)
+    TileSource* tileSource = nullptr;            // tiles shared with other processes (core/cluster.h)
 };
 
 class RenderScene {

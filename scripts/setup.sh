@@ -9,6 +9,7 @@ packages=(
   libopenimageio-dev openimageio-tools libtbb-dev libimath-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
   fonts-dejavu-core
+  openmpi-bin libopenmpi-dev
 )
 
 missing=()

@@ -1,0 +1,308 @@
+#include "core/cluster.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+
+#include <cstdint>
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#ifdef LOBE_HAVE_MPI
+#include <mpi.h>
+
+#include <chrono>
+#include <mutex>
+#include <thread>
+#endif
+
+namespace lobe::cluster {
+
+bool faultInjectedHere() {
+    const char* value = std::getenv("LOBE_FAULT_RANK");
+    return value && std::string(value) == std::to_string(rank());
+}
+
+void everywhere(const std::function<void()>& step) {
+    if (!distributed()) {
+        step();
+        return;
+    }
+    std::string message;
+    bool failed = false;
+    try {
+        step();
+    } catch (const Error& e) {
+        failed = true;
+        message = e.what();
+    }
+    const int first = firstFailed(failed);
+    if (first < 0) return;
+    if (first == rank()) throw CollectiveError(message, true);
+    throw CollectiveError("a scene failed on rank " + std::to_string(first), false);
+}
+
+#ifndef LOBE_HAVE_MPI
+
+void start(int*, char***) {}
+void stop() {}
+[[noreturn]] void abort(int code) { std::exit(code); }
+int rank() { return 0; }
+int size() { return 1; }
+int firstFailed(bool failed) { return failed ? 0 : -1; }
+bool broadcast(bool value) { return value; }
+std::unique_ptr<TileSource> sharedTiles() { return std::make_unique<LocalTileSource>(); }
+void gatherTiles(const TileSource&, int, const std::vector<PixelBuffer>&) {}
+
+#else
+
+namespace {
+
+bool g_started = false;
+int g_rank = 0;
+int g_size = 1;
+MPI_Comm g_tileComm = MPI_COMM_NULL;  // tile requests only, apart from the gathers
+
+// Tags on g_tileComm: a request {slot, finished tile}, a process's "done with this image", and
+// the reply to worker `slot` (kReply + slot). On MPI_COMM_WORLD: the gather.
+constexpr int kRequest = 1;
+constexpr int kDone = 2;
+constexpr int kReply = 100;
+constexpr int kGatherHead = 10;
+constexpr int kGatherData = 11;
+constexpr size_t kChunk = size_t(1) << 30;  // MPI counts are int: send at most 1 GiB at a time
+
+void check(int code, const char* what) {
+    if (code == MPI_SUCCESS) return;
+    char text[MPI_MAX_ERROR_STRING];
+    int length = 0;
+    MPI_Error_string(code, text, &length);
+    throw Error(std::string("MPI ") + what + ": " + std::string(text, size_t(length)));
+}
+
+// The tiles of one image shared by every process. Rank 0 owns the counter: its own workers take
+// from it directly, a server thread takes for the other processes' requests.
+class ClusterTileSource : public TileSource {
+public:
+    void begin(const std::vector<Tile>& tiles, ProgressReporter& progress) override {
+        tiles_ = tiles;  // a copy: gatherTiles needs them after the render
+        progress_ = &progress;
+        counter_ = 0;
+        rendered_.clear();
+        if (g_rank == 0) server_ = std::thread([this] { serve(); });
+    }
+
+    int next(int slot, int finished) override {
+        if (finished < 0 && faultInjectedHere()) throw Error("fault injected on rank " +
+                                                             std::to_string(g_rank) + " (LOBE_FAULT_RANK)");
+        if (g_rank == 0) {
+            if (finished >= 0) progress_->advance(tilePixels(tiles_[size_t(finished)]));
+            return take();
+        }
+        const int request[2] = {slot, finished};
+        check(MPI_Send(request, 2, MPI_INT, 0, kRequest, g_tileComm), "send");
+        int index = -1;
+        check(MPI_Recv(&index, 1, MPI_INT, 0, kReply + slot, g_tileComm, MPI_STATUS_IGNORE),
+              "receive");
+        if (index >= 0) record(index);
+        return index;
+    }
+
+    void end() override {
+        if (g_rank == 0) {
+            server_.join();
+            if (!serverError_.empty()) throw Error(serverError_);
+        } else {
+            check(MPI_Send(nullptr, 0, MPI_INT, 0, kDone, g_tileComm), "send");
+        }
+    }
+
+    const std::vector<int>& rendered() const { return rendered_; }
+    const std::vector<Tile>& tiles() const { return tiles_; }
+
+private:
+    int take() {
+        const int i = counter_.fetch_add(1);
+        if (i >= int(tiles_.size())) return -1;
+        record(i);
+        return i;
+    }
+    void record(int i) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        rendered_.push_back(i);
+    }
+
+    // Rank 0: answers requests until every other process said it is done. It polls (and sleeps
+    // 50 µs between empty polls) because a blocking receive in Open MPI spins a core that the
+    // renderer needs.
+    void serve() {
+        try {
+            int done = 0;
+            while (done < g_size - 1) {
+                int ready = 0;
+                MPI_Status status;
+                check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, g_tileComm, &ready, &status), "probe");
+                if (!ready) {
+                    std::this_thread::sleep_for(std::chrono::microseconds(50));
+                    continue;
+                }
+                if (status.MPI_TAG == kDone) {
+                    check(MPI_Recv(nullptr, 0, MPI_INT, status.MPI_SOURCE, kDone, g_tileComm,
+                                   MPI_STATUS_IGNORE), "receive");
+                    ++done;
+                    continue;
+                }
+                int request[2] = {0, -1};
+                check(MPI_Recv(request, 2, MPI_INT, status.MPI_SOURCE, kRequest, g_tileComm,
+                               MPI_STATUS_IGNORE), "receive");
+                if (request[1] >= 0) progress_->advance(tilePixels(tiles_[size_t(request[1])]));
+                const int i = counter_.fetch_add(1);
+                const int reply = i < int(tiles_.size()) ? i : -1;
+                check(MPI_Send(&reply, 1, MPI_INT, status.MPI_SOURCE, kReply + request[0],
+                               g_tileComm), "send");
+            }
+        } catch (const std::exception& e) {
+            serverError_ = e.what();
+        }
+    }
+
+    std::vector<Tile> tiles_;
+    ProgressReporter* progress_ = nullptr;
+    std::atomic<int> counter_{0};
+    std::mutex mutex_;
+    std::vector<int> rendered_;  // tiles this process rendered
+    std::thread server_;
+    std::string serverError_;
+};
+
+void sendBytes(const unsigned char* data, size_t bytes, int to) {
+    for (size_t at = 0; at < bytes; at += kChunk)
+        check(MPI_Send(data + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, to, kGatherData,
+                       MPI_COMM_WORLD), "send");
+}
+
+void receiveBytes(unsigned char* data, size_t bytes, int from) {
+    for (size_t at = 0; at < bytes; at += kChunk)
+        check(MPI_Recv(data + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, from, kGatherData,
+                       MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive");
+}
+
+}  // namespace
+
+void start(int* argc, char*** argv) {
+    if (!std::getenv("OMPI_COMM_WORLD_SIZE")) return;  // not started by mpirun
+    int provided = 0;
+    check(MPI_Init_thread(argc, argv, MPI_THREAD_MULTIPLE, &provided), "init");
+    g_started = true;
+    if (provided < MPI_THREAD_MULTIPLE)
+        throw Error("this MPI library does not support MPI_THREAD_MULTIPLE, which lobe needs");
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+    check(MPI_Comm_dup(MPI_COMM_WORLD, &g_tileComm), "communicator");
+}
+
+void stop() {
+    if (!g_started) return;
+    g_started = false;
+    MPI_Comm_free(&g_tileComm);
+    MPI_Finalize();
+}
+
+[[noreturn]] void abort(int code) {
+    if (g_started && g_size > 1) MPI_Abort(MPI_COMM_WORLD, code);
+    stop();
+    std::exit(code);
+}
+
+int rank() { return g_rank; }
+int size() { return g_size; }
+
+int firstFailed(bool failed) {
+    if (g_size == 1) return failed ? 0 : -1;
+    const int mine = failed ? g_rank : g_size;
+    int lowest = g_size;
+    check(MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD), "allreduce");
+    return lowest < g_size ? lowest : -1;
+}
+
+bool broadcast(bool value) {
+    if (g_size == 1) return value;
+    int v = value ? 1 : 0;
+    check(MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD), "broadcast");
+    return v != 0;
+}
+
+std::unique_ptr<TileSource> sharedTiles() {
+    if (g_size == 1) return std::make_unique<LocalTileSource>();
+    return std::make_unique<ClusterTileSource>();
+}
+
+// Each other process sends the indices of its tiles, then their pixels buffer by buffer, tile by
+// tile, row by row; rank 0 receives from rank 1, 2, … in turn and copies them into place.
+void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuffer>& buffers) {
+    if (g_size == 1) return;
+    const auto& shared = static_cast<const ClusterTileSource&>(source);
+    const std::vector<Tile>& tiles = shared.tiles();
+    size_t bytesPerPixel = 0;
+    for (const PixelBuffer& b : buffers) bytesPerPixel += b.bytesPerPixel;
+
+    // Visits the (buffer row, packed offset) pairs of the listed tiles in the packing order.
+    auto forEachRow = [&](const std::vector<int>& list, auto&& fn) {
+        size_t offset = 0;
+        for (int i : list) {
+            const Tile& t = tiles[size_t(i)];
+            for (const PixelBuffer& b : buffers)
+                for (int y = t.y0; y < t.y1; ++y) {
+                    const size_t bytes = size_t(t.x1 - t.x0) * b.bytesPerPixel;
+                    fn(b.data + (size_t(y) * size_t(width) + size_t(t.x0)) * b.bytesPerPixel,
+                       offset, bytes);
+                    offset += bytes;
+                }
+        }
+    };
+    auto packedSize = [&](const std::vector<int>& list) {
+        size_t pixels = 0;
+        for (int i : list) pixels += size_t(tilePixels(tiles[size_t(i)]));
+        return pixels * bytesPerPixel;
+    };
+
+    if (g_rank != 0) {
+        const std::vector<int>& mine = shared.rendered();
+        const uint64_t count = mine.size();
+        check(MPI_Send(&count, 1, MPI_UINT64_T, 0, kGatherHead, MPI_COMM_WORLD), "send");
+        if (count == 0) return;
+        check(MPI_Send(mine.data(), int(count), MPI_INT, 0, kGatherHead, MPI_COMM_WORLD), "send");
+        std::vector<unsigned char> packed(packedSize(mine));
+        forEachRow(mine, [&](const unsigned char* row, size_t offset, size_t bytes) {
+            std::memcpy(packed.data() + offset, row, bytes);
+        });
+        sendBytes(packed.data(), packed.size(), 0);
+        return;
+    }
+    for (int from = 1; from < g_size; ++from) {
+        uint64_t count = 0;
+        check(MPI_Recv(&count, 1, MPI_UINT64_T, from, kGatherHead, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE), "receive");
+        if (count == 0) continue;
+        if (count > tiles.size()) throw Error("MPI gather: rank " + std::to_string(from) +
+                                              " sent more tiles than the image has");
+        std::vector<int> theirs(count);
+        check(MPI_Recv(theirs.data(), int(count), MPI_INT, from, kGatherHead, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE), "receive");
+        for (int i : theirs)
+            if (i < 0 || size_t(i) >= tiles.size())
+                throw Error("MPI gather: rank " + std::to_string(from) + " sent tile " +
+                            std::to_string(i) + " of an image of " + std::to_string(tiles.size()));
+        std::vector<unsigned char> packed(packedSize(theirs));
+        receiveBytes(packed.data(), packed.size(), from);
+        forEachRow(theirs, [&](unsigned char* row, size_t offset, size_t bytes) {
+            std::memcpy(row, packed.data() + offset, bytes);
+        });
+    }
+}
+
+#endif
+
+}  // namespace lobe::cluster

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# `lobe render` under mpirun equals the single-process render: the same pixels in every EXR
+# channel (idiff with no tolerance; the files differ only in OpenImageIO's DateTime), the same
+# PNG and contact-sheet bytes, for 2 processes × all threads and 3 processes × 1 thread. A rank
+# that fails ends the run with its message and no output; bad input is one message.
+# Usage: mpi_test.sh LOBE MPIRUN SOURCE_DIR WORK_DIR
+set -euo pipefail
+lobe=$1 mpirun_bin=$2 src=$3 work=$4
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work"
+mpi=("$mpirun_bin" --oversubscribe)
+[[ $(id -u) -eq 0 ]] && mpi+=(--allow-run-as-root)
+scenes=("$src/assets/scenes/paper/rendering-01.json" "$src/assets/scenes/paper/rendering-13.json")
+settings=(--width 64 --spp 2 --aov all --quiet)
+fail() { echo "mpi test: $*" >&2; exit 1; }
+
+"$lobe" render "${scenes[@]}" "${settings[@]}" --out ref
+"${mpi[@]}" -n 2 "$lobe" render "${scenes[@]}" "${settings[@]}" --out n2
+"${mpi[@]}" -n 3 "$lobe" render "${scenes[@]}" "${settings[@]}" --threads 1 --out n3
+for run in n2 n3; do
+  for f in ref/*; do
+    name=$(basename "$f")
+    [[ -f "$run/$name" ]] || fail "$run/$name missing"
+    case "$name" in
+      *.exr) idiff -a -fail 0 -failpercent 0 -warn 0 "$f" "$run/$name" >/dev/null ||
+               fail "$run/$name: pixels differ from the single-process render" ;;
+      *) cmp -s "$f" "$run/$name" || fail "$run/$name differs from the single-process render" ;;
+    esac
+  done
+  [[ $(ls "$run" | wc -l) -eq $(ls ref | wc -l) ]] || fail "$run holds other files than ref"
+done
+
+# A process that fails while rendering ends every process: exit non-zero, its message, no files.
+if LOBE_FAULT_RANK=1 "${mpi[@]}" -n 2 "$lobe" render "${scenes[0]}" "${settings[@]}" \
+     --out fault 2>fault.err; then
+  fail "a failing rank left exit status 0"
+fi
+grep -q "lobe: error on rank 1 of 2: fault injected on rank 1" fault.err ||
+  fail "no message from the failing rank: $(cat fault.err)"
+[[ -z $(ls -A fault 2>/dev/null) ]] || fail "a failed run left files: $(ls -A fault)"
+
+# Bad input is found before any rank renders and reported once.
+if "${mpi[@]}" -n 3 "$lobe" render missing.json --out bad 2>bad.err; then
+  fail "a missing scene left exit status 0"
+fi
+[[ $(grep -c "^lobe: error: scene file 'missing.json' does not exist" bad.err) -eq 1 ]] ||
+  fail "expected one message for a missing scene: $(cat bad.err)"
+[[ ! -e bad ]] || fail "a refused run created its output folder"
+echo "mpi test: ok"
