@@ -7,13 +7,19 @@
 //   mpirun -n 2 lobe_bench_tiles --message-cost [--tiles N]
 //       hands out N tiles through the cluster's tile source (core/cluster.h) twice and prints
 //       what a tile costs rank 1 beyond its work: with 1 ms of busy work per tile on both ranks
-//       (the wait a render sees), and with none on rank 1 (the whole round trip to rank 0).
+//       (the wait a render sees), and with none on rank 1 (the whole round trip to rank 0,
+//       its polling included); then the time of one request and its answer between two
+//       spinning processes (MPI_Send + MPI_Recv both ways): what rank 0 spends on a request.
 #include "bench/bench_common.h"
 #include "core/cluster.h"
 #include "core/progress.h"
 #include "core/tile_scheduler.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
+
+#ifdef LOBE_HAVE_MPI
+#include <mpi.h>
+#endif
 
 #include <chrono>
 #include <cstdio>
@@ -118,6 +124,24 @@ int messageCost(int tileCount) {
                         1e6 * (wall / double(mine.load()) - (work ? kWork : 0.0)));
         std::fflush(stdout);
     }
+#ifdef LOBE_HAVE_MPI
+    MPI_Barrier(MPI_COMM_WORLD);
+    const int rounds = 20000;
+    int message[2] = {0, 0};
+    const bench::Stopwatch clock;
+    for (int i = 0; i < rounds && cluster::rank() < 2; ++i) {
+        if (cluster::rank() == 1) {
+            MPI_Send(message, 2, MPI_INT, 0, 7, MPI_COMM_WORLD);
+            MPI_Recv(message, 1, MPI_INT, 0, 8, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        } else {
+            MPI_Recv(message, 2, MPI_INT, 1, 7, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            MPI_Send(message, 1, MPI_INT, 1, 8, MPI_COMM_WORLD);
+        }
+    }
+    if (cluster::rank() == 1)
+        std::printf("request and answer between two spinning processes: %.2f us\n",
+                    1e6 * clock.wall() / rounds);
+#endif
     return 0;
 }
 
