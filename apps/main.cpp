@@ -3,6 +3,7 @@
 #include "apps/commands.h"
 #include "core/cluster.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 #include <CLI/CLI.hpp>
 
@@ -64,6 +65,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    lobe::installInterruptCleanup();
     try {
         lobe::cluster::start(&argc, &argv);
     } catch (const lobe::Error& e) {

@@ -1,6 +1,7 @@
 #include "core/image_output.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -69,6 +70,7 @@ void writePixels(const std::string& path, int width, int height,
     }
 
     const std::string tmp = temporarySibling(path);
+    const RemovedOnInterrupt guard(tmp);
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
     bool ok = out->open(tmp, spec);
