@@ -46,7 +46,14 @@ void everywhere(const std::function<void()>& step) {
 
 #ifndef LOBE_HAVE_MPI
 
-void start(int*, char***) {}
+void start(int*, char***) {
+    // Under mpirun, every copy of a lobe without MPI would render everything and write the same
+    // files at once.
+    const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+    if (size && std::atoi(size) > 1)
+        throw Error("this lobe was built without MPI: run it without mpirun, or install "
+                    "libopenmpi-dev (scripts/setup.sh) and rebuild");
+}
 void stop() {}
 [[noreturn]] void abort(int code) { std::exit(code); }
 int rank() { return 0; }
