@@ -3,6 +3,7 @@
 // assets/ — and the BRDF gallery into --out, as EXR and PNG. The default size (512², 4 spp)
 // keeps a first run short; --size 1024 --spp 8 gives the paper's settings.
 #include "apps/commands.h"
+#include "apps/output_folder.h"
 #include "apps/data_dir.h"
 #include "render/gallery.h"
 #include "render/render_scene.h"
@@ -41,7 +42,7 @@ void runDemo(const DemoCommand& cmd) {
     if (!fs::exists(scenePath))
         throw Error("cannot find the demo scene '" + scenePath.string() +
                     "' (give the repository's assets folder with --assets)");
-    fs::create_directories(cmd.outDir);
+    createOutputFolder(cmd.outDir);
 
     SceneSpec spec = loadSceneFile(scenePath.string());
     spec.width = spec.height = cmd.size;

@@ -1,5 +1,6 @@
 // `lobe gallery` renders the BRDF gallery (the nine models on spheres).
 #include "apps/commands.h"
+#include "apps/output_folder.h"
 #include "render/gallery.h"
 #include "core/error.h"
 #include "core/image_output.h"
@@ -21,7 +22,7 @@ struct GalleryCommand {
 void runGallery(const GalleryCommand& cmd) {
     GalleryOptions options = cmd.options;
     options.progress = !cmd.quiet;
-    std::filesystem::create_directories(cmd.outDir);
+    createOutputFolder(cmd.outDir);
     const Gallery gallery = renderGallery(options);
     const std::string base = (std::filesystem::path(cmd.outDir) / "gallery").string();
     writeFilm(base + ".exr", gallery.film);

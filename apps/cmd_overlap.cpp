@@ -4,6 +4,7 @@
 // overlap-heatmap.png and lobes/<a>_vs_<b>.png into --out. `--study` instead runs the convergence
 // study (lattice size × samples per pixel against the largest of both) and writes study.md.
 #include "apps/commands.h"
+#include "apps/output_folder.h"
 #include "analysis/overlap_report.h"
 #include "analysis/overlap_ranking.h"
 #include "core/error.h"
@@ -76,7 +77,7 @@ void runOverlap(OverlapCommand& cmd) {
     if (cmd.study) {
         const std::vector<StudyRow> rows =
             runConvergenceStudy(options, {128, 256, 512}, {1, 4, 16, 64}, variant);
-        std::filesystem::create_directories(cmd.outDir);
+        createOutputFolder(cmd.outDir);
         const std::string path = (std::filesystem::path(cmd.outDir) / "study.md").string();
         writeTextFileAtomic(path, "# Flux overlap: convergence against 512² × 64 spp\n\n" +
                                       studyMarkdown(rows));

@@ -4,6 +4,7 @@
 // with one progress display over the whole batch, and writes a contact sheet per scene group.
 #include "apps/commands.h"
 #include "apps/contact_sheet.h"
+#include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
@@ -234,6 +235,7 @@ void runRender(const RenderCommand& cmd) {
                 if (!cmd.check && root) std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
             }
         }
+        if (root && !cmd.check) createOutputFolder(cmd.outDir);
     };
     if (cmd.check) validate();  // rank 0 alone (the others returned)
     else cluster::everywhere(validate);
@@ -256,7 +258,6 @@ void runRender(const RenderCommand& cmd) {
     }
     int64_t totalPixels = 0;
     for (const SceneSpec& spec : specs) totalPixels += int64_t(spec.width) * spec.height;
-    if (root) fs::create_directories(cmd.outDir);
 
     ProgressReporter progress(files.size() == 1 ? "render" : "render batch", totalPixels, !quiet);
     std::map<std::string, std::vector<ContactSheetEntry>> sheets;
@@ -467,7 +468,9 @@ void registerRenderCommand(CLI::App& app) {
     sheetSub->add_option("--out", sheet.out, "the sheet to write (.png, .jpg, .exr)")->required();
     sheetSub->add_option("images", sheet.images, "IMAGE or IMAGE=CAPTION, in order")->required();
     sheetSub->add_option("--columns", sheet.columns, "images per row")->capture_default_str();
-    sheetSub->add_option("--thumb", sheet.thumb, "thumbnail width in pixels")->capture_default_str();
+    sheetSub->add_option("--thumb", sheet.thumb, "thumbnail width in pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 4096));
     sheetSub->callback([] { runSheet(sheet); });
 
     static RenderCommand cmd;
@@ -482,7 +485,8 @@ void registerRenderCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(0, 1024));
     sub->add_option("--sheet-thumb", cmd.sheetThumb, "contact sheet thumbnail width")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(16, 4096));
     sub->add_flag("--no-contact-sheets", cmd.noContactSheets, "write no contact sheets");
     sub->add_flag("--check", cmd.check,
                   "read and check every scene, print every error, render nothing");
@@ -511,7 +515,8 @@ void registerRenderCommand(CLI::App& app) {
     merge.overrides.addOptions(*mergeSub);
     mergeSub->add_option("--aov", merge.aov, "the --aov the parts were rendered with");
     mergeSub->add_option("--sheet-thumb", merge.sheetThumb, "contact sheet thumbnail width")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(CLI::Range(16, 4096));
     mergeSub->add_flag("--no-contact-sheets", merge.noContactSheets, "write no contact sheets");
     mergeSub->add_flag("--quiet", merge.quiet, "no summary");
     mergeSub->footer("Give it the same scene files and overrides as the sharded renders.");

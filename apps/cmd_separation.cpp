@@ -5,6 +5,7 @@
 // per-pair maps <stem>/<a>_vs_<b>.png (A red, B green, overlap yellow); over all scenes
 // separation.csv (one row per scene). Every scene is read and checked before any is rendered.
 #include "apps/commands.h"
+#include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
 #include "analysis/overlap_report.h"
 #include "analysis/scene_passes.h"
@@ -58,7 +59,7 @@ void runSeparation(const SeparationCommand& cmd) {
             throw Error("scenes '" + it->second + "' and '" + path +
                         "' would write the same files (" + stem + ".*): rename one");
     }
-    fs::create_directories(cmd.outDir);
+    createOutputFolder(cmd.outDir);
     AovRequest request;
     request.objects = request.backdrop = true;
     std::string summary = "scene,score";

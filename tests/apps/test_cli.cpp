@@ -213,6 +213,31 @@ TEST(Cli, RenderRefusesOutOfRangeOverridesBeforeWriting) {
     }
 }
 
+// A bad output folder or contact-sheet size is an input error (exit 1, one line naming it)
+// found before anything renders — not an internal error after the renders.
+TEST(Cli, RenderRefusesBadOutputFoldersAndSheetSizesFirst) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    std::ofstream(d / "afile") << "x";
+    const struct {
+        std::string args, message;
+    } cases[] = {
+        {"--out " + quote((d / "afile").string()), "is a file, not a folder"},
+        {"--out ''", "the output folder's name is empty"},
+        {"--out " + quote((d / "afile" / "sub").string()), "cannot create the folder"},
+        {"--sheet-thumb -5 --out " + quote((d / "o1").string()), "--sheet-thumb"},
+        {"--sheet-thumb 100000000 --out " + quote((d / "o2").string()), "--sheet-thumb"},
+    };
+    for (const auto& c : cases) {
+        const CliRun r = lobe("render " + quote(scene) + " --width 16 --spp 1 --quiet " + c.args);
+        EXPECT_EQ(r.exitCode, 1) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_EQ(r.err.find("internal error"), std::string::npos) << c.args << ": " << r.err;
+    }
+    EXPECT_FALSE(fs::exists(d / "o1"));
+    EXPECT_FALSE(fs::exists(d / "o2"));
+}
+
 TEST(Cli, BatchCollisionsCheckSkipExistingAndKeepGoing) {
     const fs::path d = testDir();
     // Two scenes with the same file name in different folders: refused before anything renders.
