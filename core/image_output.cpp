@@ -115,11 +115,11 @@ void writeFilm(const std::string& path, const Film& film, double exposure,
         for (int c = 0; c < 3; ++c) {
             data[i * stride + c] = rgb.rgb[i * 3 + c];
             const double band = s[c] * exposure;
-            data[i * stride + 3 + c] = std::isfinite(band) ? float(band) : 0.0f;
+            data[i * stride + 3 + c] = imageFloat(band);
         }
         for (size_t c = 0; c < k; ++c) {
             const float v = extra.data[i * k + c];
-            data[i * stride + 6 + c] = std::isfinite(v) ? v : 0.0f;
+            data[i * stride + 6 + c] = imageFloat(v);
         }
     }
     std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};

@@ -33,4 +33,13 @@ inline bool isFinite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+// A value as an image stores it: NaN becomes 0 and anything beyond the float range (±inf
+// included) the largest float of its sign — an overflowing highlight is white, not a black hole
+// and not an Inf in the EXR.
+inline float imageFloat(double v) {
+    if (std::isnan(v)) return 0.0f;
+    constexpr double kMax = 3.4028234663852886e38;  // FLT_MAX
+    return float(std::clamp(v, -kMax, kMax));
+}
+
 }  // namespace lobe

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/film.h"
+#include "core/math.h"
 
 #include <array>
 #include <string>
@@ -21,9 +22,9 @@ struct RgbImage {
     const float* pixel(int x, int y) const { return &rgb[(size_t(y) * width + x) * 3]; }
     void set(int x, int y, const std::array<double, 3>& c) {
         float* p = pixel(x, y);
-        p[0] = float(c[0]);
-        p[1] = float(c[1]);
-        p[2] = float(c[2]);
+        p[0] = imageFloat(c[0]);
+        p[1] = imageFloat(c[1]);
+        p[2] = imageFloat(c[2]);
     }
 };
 

@@ -13,6 +13,8 @@
 #include "materials/strauss.h"
 #include "materials/ward.h"
 
+#include <algorithm>
+#include <cmath>
 #include <variant>
 
 namespace lobe {
@@ -20,9 +22,18 @@ namespace lobe {
 using Brdf = std::variant<Lambert, Phong, Strauss, SchlickLewis, Ward, CookTorrance, PoulinFournier,
                           HeTorrance, Lafortune, AshikhminShirley>;
 
+// The largest BRDF value Lobe passes on, in sr⁻¹. Parameters in range can take a model past any
+// float — Lafortune's (C·u)^n with cz = 2 and n = 1100 is 10^321 at normal incidence — and such a
+// value means "white" in any image; clamped here it stays finite through the light loop, the
+// compositing and the EXR.
+constexpr double kMaxBrdfValue = 1e30;
+
 // f(wi, wo) per band in sr⁻¹, without the cosine; wi and wo unit vectors in the local frame.
+// Always finite: NaN (0/0 exactly at the horizon) is 0, values are at most kMaxBrdfValue.
 inline Spectrum evalBrdf(const Brdf& brdf, const Vec3& wi, const Vec3& wo) {
-    return std::visit([&](const auto& model) { return model.eval(wi, wo); }, brdf);
+    Spectrum f = std::visit([&](const auto& model) { return model.eval(wi, wo); }, brdf);
+    for (double& v : f.v) v = std::isnan(v) ? 0.0 : std::min(v, kMaxBrdfValue);
+    return f;
 }
 
 inline const char* brdfName(const Brdf& brdf) {

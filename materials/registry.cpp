@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 
+#include <set>
+
 namespace lobe {
 namespace {
 
@@ -65,11 +67,14 @@ void setBrdfParam(const BrdfModelInfo& model, ParamValues& values, const std::st
 ParamValues parseBrdfSettings(const BrdfModelInfo& model, const std::vector<std::string>& settings,
                               const std::string& context) {
     ParamValues values(*model.params);
+    std::set<std::string> seen;
     for (const std::string& setting : settings) {
         const auto eq = setting.find('=');
         if (eq == std::string::npos || eq == 0)
             throw Error(context + ": expected key=value, got '" + setting + "'");
         const std::string key = setting.substr(0, eq);
+        if (!seen.insert(key).second)
+            throw Error(context + ": parameter '" + key + "' given twice");
         setBrdfParam(model, values, key, parseBandValue(setting.substr(eq + 1), context + "." + key),
                      context);
     }

@@ -135,7 +135,7 @@ void AovAccumulator::finishPixel(int samples, size_t p, AovImage& out) const {
     auto put = [](float* dst, const Spectrum& s, double scale) {
         for (int b = 0; b < 3; ++b) {
             const double v = s[b] * scale;
-            dst[b] = std::isfinite(v) ? float(v) : 0.0f;
+            dst[b] = imageFloat(v);
         }
     };
     if (!out.lambert.empty())
@@ -162,7 +162,7 @@ void AovAccumulator::finishPixel(int samples, size_t p, AovImage& out) const {
     const size_t m = request_.modelBrdfs.size();
     for (size_t i = 0; i < size_t(objects_) * m; ++i) {
         const double v = modelSpecular_[i] * inv;
-        out.modelSpecular[p * size_t(objects_) * m + i] = std::isfinite(v) ? float(v) : 0.0f;
+        out.modelSpecular[p * size_t(objects_) * m + i] = imageFloat(v);
     }
 }
 
@@ -194,7 +194,7 @@ void appendAovChannels(const AovRequest& request, const AovImage& a,
         static const char* rgb[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; ++c)
             channels.push_back({layer + "." + rgb[c], [get, c, exposure](size_t p) {
-                                    return float(bandsToLinearSrgb(get(p))[size_t(c)] * exposure);
+                                    return imageFloat(bandsToLinearSrgb(get(p))[size_t(c)] * exposure);
                                 }});
     };
     if (request.objects) {

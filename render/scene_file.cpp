@@ -297,9 +297,29 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
 }  // namespace
 
 SceneSpec parseScene(const std::string& text, const std::string& baseDir, const std::string& name) {
+    // While parsing: a key given twice in one object is an error (JSON lets the last silently
+    // win), and so is nesting deeper than any scene needs (deep enough nesting would overflow
+    // the stack later, when the value is walked or destroyed).
+    constexpr int kMaxDepth = 64;
+    std::vector<std::set<std::string>> keys;  // the keys seen in each open object
+    std::string problem;
+    const auto check = [&](int depth, Json::parse_event_t event, Json& parsed) {
+        if (depth > kMaxDepth) {
+            problem = "nested more than " + std::to_string(kMaxDepth) + " levels deep";
+            throw std::runtime_error(problem);
+        }
+        if (event == Json::parse_event_t::object_start) keys.emplace_back();
+        else if (event == Json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+        else if (event == Json::parse_event_t::key && !keys.empty() &&
+                 !keys.back().insert(parsed.get<std::string>()).second) {
+            problem = "key '" + parsed.get<std::string>() + "' given twice in one object";
+            throw std::runtime_error(problem);
+        }
+        return true;
+    };
     Json root;
     try {
-        root = Json::parse(text);
+        root = Json::parse(text, check);
     } catch (const Json::parse_error& e) {
         // Translate the byte offset into a line and column people can find.
         size_t line = 1, column = 1;
@@ -316,6 +336,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     } catch (const Json::exception& e) {
         // Not a syntax error but a value JSON cannot hold as a number (e.g. 1e400).
         throw Error(name + ": invalid JSON: " + e.what());
+    } catch (const std::runtime_error&) {
+        if (problem.empty()) throw;
+        throw Error(name + ": " + problem);
     }
     SceneSpec scene;
     scene.path = name;

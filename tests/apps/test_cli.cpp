@@ -2,8 +2,11 @@
 // output written on bad input, and hand values from `lobe brdf eval`. Each test runs the built
 // binary (LOBE_EXE) in a shell with its own temporary folder, so parallel ctest processes never
 // share files.
+#include "core/image_output.h"
+
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -109,6 +112,29 @@ TEST(Cli, BrdfEvalUnknownModelAndParameterAreNamed) {
     r = lobe("brdf eval poulin_fournier intervals=64");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("intervals"), std::string::npos) << r.err;
+}
+
+// Directions are normalised without overflow or underflow (1e308 and 1e-300 components); a
+// parameter given twice is refused rather than the last silently winning.
+TEST(Cli, BrdfEvalExtremeComponentsAndDuplicateParameters) {
+    CliRun r = lobe("brdf eval ward", "1e308,0,1e308,-1e308,0,1e308\n1e-300,0,1e-300,-1e-300,0,1e-300\n"
+                                      "1,0,1,-1,0,1\n");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    std::istringstream lines(r.out);
+    std::string huge, tiny, unit;
+    std::getline(lines, huge);
+    std::getline(lines, tiny);
+    std::getline(lines, unit);
+    EXPECT_EQ(huge, unit);
+    EXPECT_EQ(tiny, unit);
+    EXPECT_NE(unit, "0,0,0");
+    r = lobe("brdf eval phong exponent=10 exponent=20", "0,0,1,0,0,1\n");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("parameter 'exponent' given twice"), std::string::npos) << r.err;
+    // In range, Lafortune (cz = 2, n = 1100) exceeds a double at normal incidence: clamped.
+    r = lobe("brdf eval lafortune cz=2 exponent=1100", "0,0,1,0,0,1\n");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out, "1e+30,1e+30,1e+30\n");
 }
 
 TEST(Cli, BrdfListListsAllTenInThePapersOrder) {
@@ -236,6 +262,47 @@ TEST(Cli, RenderRefusesBadOutputFoldersAndSheetSizesFirst) {
     }
     EXPECT_FALSE(fs::exists(d / "o1"));
     EXPECT_FALSE(fs::exists(d / "o2"));
+}
+
+// A key given twice in one JSON object, and nesting deeper than a scene needs (75 000 levels
+// overflowed the stack), are one error naming the file.
+TEST(Cli, SceneWithDuplicateKeysOrDeepNestingIsRefused) {
+    const fs::path d = testDir();
+    const std::string dup = sceneWith(d, "\"iso\": 0.5", "\"iso\": 0.5, \"iso\": 0.6");
+    CliRun r = lobe("render " + quote(dup) + " --check");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("key 'iso' given twice in one object"), std::string::npos) << r.err;
+    std::string deep;
+    for (int i = 0; i < 75000; ++i) deep += "{\"a\":";
+    deep += "1";
+    deep += std::string(75000, '}');
+    std::ofstream(d / "deep.json") << deep;
+    r = lobe("render " + quote((d / "deep.json").string()) + " --check");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("deep.json: nested more than 64 levels deep"), std::string::npos) << r.err;
+}
+
+// Parameters in range whose highlight exceeds any float: the EXR holds finite values only and
+// the PNG shows the highlight white (an Inf used to become a black disc).
+TEST(Cli, AnOverflowingHighlightIsFiniteAndWhite) {
+    const fs::path d = testDir();
+    const std::string scene = sceneWith(d, "\"model\": \"ward\"",
+                                        "\"model\": \"lafortune\", \"cz\": 2, \"exponent\": 1100");
+    const CliRun r = lobe("render " + quote(scene) + " --width 48 --spp 1 --quiet --out " +
+                          quote((d / "out").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const lobe::FloatImage exr = lobe::readFloatImage((d / "out" / "scene.exr").string());
+    size_t huge = 0;
+    for (const float v : exr.channels.data) {
+        ASSERT_TRUE(std::isfinite(v));
+        if (v > 1e20f) ++huge;
+    }
+    EXPECT_GT(huge, 0u);  // the highlight is there, clamped, not zeroed
+    const lobe::RgbImage png = lobe::readImage((d / "out" / "scene.png").string());
+    size_t white = 0;
+    for (size_t p = 0; p < png.rgb.size() / 3; ++p)
+        if (png.rgb[p * 3] >= 1.0f && png.rgb[p * 3 + 1] >= 1.0f && png.rgb[p * 3 + 2] >= 1.0f) ++white;
+    EXPECT_GT(white, 0u);
 }
 
 TEST(Cli, BatchCollisionsCheckSkipExistingAndKeepGoing) {

@@ -1,8 +1,10 @@
 #include "core/error.h"
+#include "core/math.h"
 #include "core/rgb_image.h"
 #include "core/spectrum.h"
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -84,6 +86,25 @@ TEST(ToneCurve, ShoulderIsIdentityBelowTheKneeSmoothAboveAndNeverWhite) {
     applyTone(img, "shoulder");
     EXPECT_FLOAT_EQ(img.pixel(0, 0)[0], 0.5f);
     EXPECT_LT(img.pixel(0, 0)[2], 1.0f);
+}
+
+}  // namespace
+}  // namespace lobe
+
+namespace lobe {
+namespace {
+
+// What an image stores (core/math.h): NaN is 0, beyond the float range is the largest float of
+// that sign (infinities included), everything else the nearest float.
+TEST(ImageFloat, NonFiniteAndHugeValuesBecomeFiniteFloats) {
+    constexpr float kMax = std::numeric_limits<float>::max();
+    EXPECT_EQ(imageFloat(std::nan("")), 0.0f);
+    EXPECT_EQ(imageFloat(HUGE_VAL), kMax);
+    EXPECT_EQ(imageFloat(-HUGE_VAL), -kMax);
+    EXPECT_EQ(imageFloat(2.1e236), kMax);
+    EXPECT_EQ(imageFloat(-1e39), -kMax);
+    EXPECT_EQ(imageFloat(0.25), 0.25f);
+    EXPECT_EQ(imageFloat(1e30), float(1e30));
 }
 
 }  // namespace

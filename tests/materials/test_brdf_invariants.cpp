@@ -216,5 +216,51 @@ TEST_P(Invariants, DirectionalAlbedoIsFiniteAndEstimatorsAgree) {
 INSTANTIATE_TEST_SUITE_P(AllModels, Invariants, ::testing::ValuesIn(registeredNames()),
                          [](const auto& info) { return info.param; });
 
+// Every parameter at the ends of its range, one and two at a time (the rest at their defaults),
+// at directions down to cos θ = 1e-300: the value is finite, ≥ 0 and at most kMaxBrdfValue. In
+// range, Lafortune with cz = 2 and exponent 1100 is 1.96^1100 ≈ 10^321 at normal incidence: more
+// than a double holds, so it is clamped (an image shows white, not an Inf or a black hole).
+TEST(BrdfInvariants, FiniteAtEveryParameterExtremeAndDirection) {
+    const std::vector<std::pair<Vec3, Vec3>> pairs = {
+        {{0, 0, 1}, {0, 0, 1}},
+        {{1, 0, 1e-300}, {-1, 0, 1e-300}},
+        {{1, 0, 1e-300}, {1, 0, 1e-300}},
+        {{1, 0, 1e-12}, {0, 1, 1e-12}},
+        {{0.6, 0, 0.8}, {-0.6, 0, 0.8}},
+        {{0.6, 0, 0.8}, {0.6, 0, 0.8}},
+        {{0, 0.6, 0.8}, {0, 0.8, 0.6}},
+    };
+    for (const BrdfModelInfo& model : brdfModels()) {
+        const ParamTable& table = *model.params;
+        std::vector<ParamValues> settings{ParamValues(table)};
+        for (size_t a = 0; a < table.size(); ++a)
+            for (const double va : {table[a].minValue, table[a].maxValue}) {
+                ParamValues one(table);
+                one.set(table[a].name, Spectrum(va));
+                settings.push_back(one);
+                for (size_t b = a + 1; b < table.size(); ++b)
+                    for (const double vb : {table[b].minValue, table[b].maxValue}) {
+                        ParamValues two = one;
+                        two.set(table[b].name, Spectrum(vb));
+                        settings.push_back(two);
+                    }
+            }
+        for (const ParamValues& values : settings) {
+            const Brdf brdf = model.create(values);
+            for (const auto& [wi, wo] : pairs) {
+                const Spectrum f = evalBrdf(brdf, wi.normalized(), wo.normalized());
+                for (int b = 0; b < 3; ++b)
+                    ASSERT_TRUE(std::isfinite(f[b]) && f[b] >= 0.0 && f[b] <= kMaxBrdfValue)
+                        << model.name << " f=" << f[b] << " at wi.z=" << wi.z;
+            }
+        }
+    }
+    ParamValues lafortune(*findBrdfModel("lafortune").params);
+    lafortune.set("cz", Spectrum(2.0));
+    lafortune.set("exponent", Spectrum(1100.0));
+    const Brdf brdf = findBrdfModel("lafortune").create(lafortune);
+    EXPECT_EQ(evalBrdf(brdf, Vec3(0, 0, 1), Vec3(0, 0, 1))[0], kMaxBrdfValue);
+}
+
 }  // namespace
 }  // namespace lobe
