@@ -1,5 +1,6 @@
 #include "render/render_scene.h"
 
+#include "core/memory.h"
 #include "core/pixel_loop.h"
 #include "core/rng.h"
 
@@ -51,6 +52,14 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
                          const AovRequest* aov, AovImage* aovs) const {
     const auto start = std::chrono::steady_clock::now();
     const SceneSpec& spec = scene_.spec();
+    // The film (3 doubles a pixel), its display copy and the EXR's floats (6 + 3 floats), and
+    // the passes asked for (about 6 floats an object, 8 more, and one per object and model).
+    double bytesPerPixel = 3 * 8 + 9 * 4;
+    if (aov && aov->any())
+        bytesPerPixel += 4.0 * (8 + double(spec.objects.size()) * (6 + 10));
+    checkFits(double(spec.width) * spec.height * bytesPerPixel,
+              spec.path + ": a " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+                  " image");
     Film film(spec.width, spec.height);
     tbb::enumerable_thread_specific<TraceState> states([&] { return integrator_.newState(); });
     tbb::enumerable_thread_specific<RenderStats> stats;

@@ -13,6 +13,11 @@
 #include <sstream>
 
 namespace lobe {
+
+// Limits of the scene format (docs/scene-format.md).
+constexpr size_t kMaxLights = 1024;
+constexpr size_t kMaxObjects = 1024;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -380,6 +385,11 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     if (r.has("lights")) {
         const Json& lights = r.raw("lights");
         if (!lights.is_array()) r.fail("lights", "expected an array");
+        // Every light is evaluated at every shaded point: 600 000 lights made a render that
+        // never ends. The paper uses 4.
+        if (lights.size() > kMaxLights)
+            r.fail("lights", std::to_string(lights.size()) + " lights; a scene holds at most " +
+                                 std::to_string(kMaxLights));
         for (size_t i = 0; i < lights.size(); ++i) {
             Reader l(lights[i], "lights[" + std::to_string(i) + "]", name);
             PointLight light;
@@ -412,6 +422,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     if (!r.has("objects")) r.fail("objects", "missing (an array of objects)");
     const Json& objects = r.raw("objects");
     if (!objects.is_array()) r.fail("objects", "expected an array");
+    if (objects.size() > kMaxObjects)
+        r.fail("objects", std::to_string(objects.size()) + " objects; a scene holds at most " +
+                              std::to_string(kMaxObjects));
     for (size_t i = 0; i < objects.size(); ++i)
         scene.objects.push_back(
             readObject(Reader(objects[i], "objects[" + std::to_string(i) + "]", name), baseDir));

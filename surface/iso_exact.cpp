@@ -2,6 +2,7 @@
 #include "surface/iso_exact.h"
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "surface/trilinear_cell.h"
 
 #include <tbb/parallel_for.h>
@@ -68,6 +69,13 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
         bHi[a] = floorDiv(cellHi[a], kBrickCells);
     }
     const int nx = bHi.x() - bLo.x() + 1, ny = bHi.y() - bLo.y() + 1, nz = bHi.z() - bLo.z() + 1;
+    // Pass 1 holds every candidate brick's values: refused by its size before allocating (a
+    // foreign grid's two voxels 1e5 apart would need 1e13 bricks); the mesh method has no such
+    // table.
+    checkFits(double(nx) * ny * nz * (kBrickValues * sizeof(float) + 2),
+              name + ": the exact iso-surface's table of " + std::to_string(int64_t(nx) * 8) +
+                  " x " + std::to_string(int64_t(ny) * 8) + " x " + std::to_string(int64_t(nz) * 8) +
+                  " cells (use \"method\": \"mesh\" for a grid this large)");
     const std::size_t nBricks = std::size_t(nx) * ny * nz;
     candidateBricks_ = nBricks;
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/memory.h"
 
 namespace lobe {
 
@@ -44,6 +45,20 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     domainLo_ = Vec3(lo.x(), lo.y(), lo.z());
     domainHi_ = Vec3(hi.x(), hi.y(), hi.z());
     const int b = settings_.brickSize;
+    // The brick table is dense over the active box: a foreign grid whose active voxels lie far
+    // apart (two voxels 1e5 apart: 1.6e13 bricks) is refused by its size before anything is
+    // allocated — by the machine's memory, and at 2^28 bricks (an active box of 2580³ voxels
+    // at 4³ a brick; larger ones take minutes just to build the table).
+    double bricks = 1.0;
+    for (int a = 0; a < 3; ++a) bricks *= double((int64_t(hi[a]) - lo[a]) / b + 1);
+    const std::string span = std::to_string(int64_t(hi.x()) - lo.x() - 3) + " x " +
+                             std::to_string(int64_t(hi.y()) - lo.y() - 3) + " x " +
+                             std::to_string(int64_t(hi.z()) - lo.z() - 3) + " voxels";
+    if (bricks > double(1 << 28))
+        throw Error(name + ": the active voxels span " + span + ", more than volume rendering "
+                    "handles (2580³); crop the grid to the data, or prune stray active voxels");
+    checkFits(bricks * double(1 + 8 * ((b * b * b + 63) / 64)),
+              name + ": the empty-space table of an active box of " + span);
     for (int a = 0; a < 3; ++a) {
         brickLo_[a] = lo[a];
         brickCount_[a] = (hi[a] - lo[a]) / b + 1;  // covers [lo, hi] (a point at hi included)

@@ -178,3 +178,19 @@ TEST(SceneFile, HighlightToneAndGreyBackdropKeys) {
 
 }  // namespace
 }  // namespace lobe
+
+namespace lobe {
+
+// Limits of the format: 1024 lights and 1024 objects (every light is evaluated at every shaded
+// point; 600 000 lights made a render that never ends).
+TEST(SceneFile, TooManyLightsAreRefusedByNumber) {
+    std::string lights = "\"lights\": [";
+    for (int i = 0; i < 1025; ++i) lights += std::string(i ? ", " : "") + "{\"position\": [1, 2, 3], \"intensity\": 1}";
+    lights += "]";
+    std::string text = validScene();
+    const std::string one = "\"lights\": [{\"position\": [1, 2, 3], \"intensity\": [1, 2, 3]}]";
+    text.replace(text.find(one), one.size(), lights);
+    EXPECT_EQ(errorOf(text), "scene.json: lights: 1025 lights; a scene holds at most 1024");
+}
+
+}  // namespace lobe

@@ -287,6 +287,23 @@ TEST(IsoExact, SphereDistanceFieldNoMissesAndRootsWithin1e4Voxel) {
     EXPECT_GT(st.hits, 3000);
 }
 
+// Two stored voxels 1e5 apart span 1e15 cells: the exact method's table is refused by its size
+// before it is allocated (it threw std::bad_alloc), and the error points to the mesh method.
+TEST(IsoExact, TwoVoxelsFarApartAreRefusedByTheTablesSize) {
+    openvdb::initialize();
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->tree().setValue(openvdb::Coord(0, 0, 0), 1.0f);
+    grid->tree().setValue(openvdb::Coord(100000, 100000, 100000), 1.0f);
+    try {
+        IsoExactSurface surface(*grid, 0.5, "far.vdb");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("far.vdb: the exact iso-surface's table"), std::string::npos)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("\"method\": \"mesh\""), std::string::npos) << e.what();
+    }
+}
+
 TEST(IsoExact, SphereOnAnisotropicGrid) {
     const int dims[3] = {32, 32, 16};  // world z spacing 2: 0 … 30
     auto grid = sphereGrid(kAniso, dims);
