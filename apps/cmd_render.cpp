@@ -214,6 +214,7 @@ void runRender(const RenderCommand& cmd) {
     std::vector<SceneSpec> specs;
     std::vector<std::string> errors;
     std::map<std::string, std::string> writerOf;  // output base → scene file
+    VolumeCache volumes;  // each distinct source loaded once for the whole batch
     const auto validate = [&] {
         cmd.overrides.validate();
         std::tie(shardIndex, shardCount) = parseShard(cmd.shard);
@@ -235,11 +236,30 @@ void runRender(const RenderCommand& cmd) {
                 if (!cmd.check && root) std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
             }
         }
+    };
+    // Every volume of the scenes to render loaded now (each distinct file once), so that a later
+    // scene's bad file is found before the first scene renders.
+    const auto loadVolumes = [&] {
+        std::vector<const SceneSpec*> all;
+        for (const SceneSpec& spec : specs) all.push_back(&spec);
+        const std::vector<std::string> volumeErrors = volumes.preload(all);
+        std::vector<SceneSpec> loadable;
+        for (size_t k = 0; k < specs.size(); ++k) {
+            if (volumeErrors[k].empty()) {
+                loadable.push_back(std::move(specs[k]));
+                continue;
+            }
+            if (!cmd.check && !cmd.keepGoing) throw Error(volumeErrors[k]);
+            errors.push_back(volumeErrors[k]);
+            if (!cmd.check && root)
+                std::fprintf(stderr, "lobe: error: %s (skipped)\n", volumeErrors[k].c_str());
+        }
+        specs = std::move(loadable);
         if (root && !cmd.check) createOutputFolder(cmd.outDir);
     };
-    if (cmd.check) validate();  // rank 0 alone (the others returned)
-    else cluster::everywhere(validate);
-    if (cmd.check) {
+    if (cmd.check) {  // rank 0 alone (the others returned)
+        validate();
+        loadVolumes();
         for (const std::string& e : errors) std::fprintf(stderr, "lobe: error: %s\n", e.c_str());
         if (!errors.empty())
             throw Error(std::to_string(errors.size()) + " of " + std::to_string(files.size()) +
@@ -247,6 +267,7 @@ void runRender(const RenderCommand& cmd) {
         std::printf("%zu scene%s valid\n", files.size(), files.size() == 1 ? "" : "s");
         return;
     }
+    cluster::everywhere(validate);
     // Sharding: a batch deals its scenes out (scene k goes to part k mod N); one scene is cut
     // into N bands of rows, each written as a part file for `lobe merge`.
     const bool rowShards = shardCount > 0 && specs.size() == 1;
@@ -256,6 +277,7 @@ void runRender(const RenderCommand& cmd) {
             if (int(k % size_t(shardCount)) == shardIndex) mine.push_back(std::move(specs[k]));
         specs = std::move(mine);
     }
+    cluster::everywhere(loadVolumes);
     int64_t totalPixels = 0;
     for (const SceneSpec& spec : specs) totalPixels += int64_t(spec.width) * spec.height;
 
@@ -272,7 +294,7 @@ void runRender(const RenderCommand& cmd) {
             const std::string part = partPath(base, shardIndex, shardCount);
             if (cluster::broadcast(cmd.skipExisting && fs::exists(part))) continue;
             std::unique_ptr<RenderScene> scene;
-            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false); });
+            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
             AovImage aovs;
             const Film film = renderShared(*scene, cmd, aov, aovs, nullptr, nullptr, y0, y1);
             if (!root) continue;
@@ -297,7 +319,7 @@ void runRender(const RenderCommand& cmd) {
         }
         try {
             std::unique_ptr<RenderScene> scene;
-            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false); });
+            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
             RenderStats stats;
             AovImage aovs;
             const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress);

@@ -42,4 +42,19 @@ inline float imageFloat(double v) {
     return float(std::clamp(v, -kMax, kMax));
 }
 
+// Whether a 3×3 linear map (rows m[r][c]) is singular or so nearly that its inverse means
+// nothing: |det| ≤ 1e-9 · |column 0| · |column 1| · |column 2|. Scale-free — a 1e-5 mm voxel is
+// fine — and by Hadamard's inequality the ratio is 1 for orthogonal columns and falls to 0 as
+// they become parallel (a shear of 1e12 gives 1e-12; marching such a grid never advanced).
+template <class Matrix>
+bool nearlySingular(const Matrix& m) {
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                 m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    double bound = 1.0;
+    for (int c = 0; c < 3; ++c)
+        bound *= std::sqrt(m[0][c] * m[0][c] + m[1][c] * m[1][c] + m[2][c] * m[2][c]);
+    return !std::isfinite(det) || !std::isfinite(bound) || !(std::abs(det) > 1e-9 * bound);
+}
+
 }  // namespace lobe

@@ -30,8 +30,9 @@ class RenderScene {
 public:
     // Loads every source and builds the acceleration structures; throws lobe::Error naming the
     // scene file and the object for anything it cannot load.
-    explicit RenderScene(const SceneSpec& spec, bool progress = true)
-        : scene_(spec, progress), integrator_(scene_) {}
+    // With `cache`, sources come from (and are kept in) it: a batch loads each file once.
+    explicit RenderScene(const SceneSpec& spec, bool progress = true, VolumeCache* cache = nullptr)
+        : scene_(spec, progress, cache), integrator_(scene_) {}
 
     const SceneSpec& spec() const { return scene_.spec(); }
     const Scene& scene() const { return scene_; }

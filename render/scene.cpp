@@ -11,6 +11,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
@@ -34,9 +36,15 @@ TangentAxes worldAxes(const ObjectSpec& spec) {
     return {apply(a), apply(f)};
 }
 
+// Everything a loaded volume depends on.
 std::string sourceKey(const VolumeSourceSpec& s) {
-    return s.path + "|" + std::to_string(s.divideBy) + "|" + std::to_string(s.background) + "|" +
-           std::to_string(s.blurFwhmMm);
+    char numbers[256];
+    std::snprintf(numbers, sizeof numbers, "|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", s.divideBy,
+                  s.background, s.blurFwhmMm, s.spacing[0], s.spacing[1], s.spacing[2]);
+    std::string key = s.path + numbers + "|" + s.type + "|" + s.endian;
+    if (s.dims)
+        for (int d : *s.dims) key += "|" + std::to_string(d);
+    return key;
 }
 
 Volume loadSource(const VolumeSourceSpec& s) {
@@ -55,34 +63,68 @@ Volume loadSource(const VolumeSourceSpec& s) {
     return v;
 }
 
-// Every distinct source of the scene loaded once, the files in parallel (decompressing one
-// file is serial, so loading the skull and the brain side by side saves ~0.2 s of a preview).
-// Returns, per object, the index of its volume in `volumes`. A failure is reported for the
-// first failing object in scene order, whatever order the loads finished in.
-std::vector<size_t> loadSources(const SceneSpec& spec, std::vector<Volume>& volumes) {
-    std::map<std::string, size_t> slotOfKey;
-    std::vector<size_t> slotOfObject, firstObjectOfSlot;
-    for (size_t i = 0; i < spec.objects.size(); ++i) {
-        const auto [it, isNew] =
-            slotOfKey.emplace(sourceKey(spec.objects[i].source), firstObjectOfSlot.size());
-        if (isNew) firstObjectOfSlot.push_back(i);
-        slotOfObject.push_back(it->second);
+}  // namespace
+
+// Every distinct source not yet held loaded once, the files in parallel (decompressing one file
+// is serial, so loading the skull and the brain side by side saves ~0.2 s of a preview). A
+// failure is reported for the first failing object in scene order, whatever order the loads
+// finished in.
+std::vector<std::string> VolumeCache::preload(const std::vector<const SceneSpec*>& specs) {
+    std::vector<const VolumeSourceSpec*> todo;
+    std::vector<std::string> todoKeys;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const SceneSpec* spec : specs)
+            for (const ObjectSpec& object : spec->objects) {
+                const std::string key = sourceKey(object.source);
+                if (volumes_.count(key) || errors_.count(key) ||
+                    std::find(todoKeys.begin(), todoKeys.end(), key) != todoKeys.end())
+                    continue;
+                todo.push_back(&object.source);
+                todoKeys.push_back(key);
+            }
     }
-    volumes.resize(firstObjectOfSlot.size());
-    std::vector<std::optional<std::string>> errors(volumes.size());
-    tbb::parallel_for(size_t(0), volumes.size(), [&](size_t slot) {
+    std::vector<std::shared_ptr<const Volume>> loaded(todo.size());
+    std::vector<std::string> failed(todo.size());
+    tbb::parallel_for(size_t(0), todo.size(), [&](size_t i) {
         try {
-            volumes[slot] = loadSource(spec.objects[firstObjectOfSlot[slot]].source);
+            loaded[i] = std::make_shared<const Volume>(loadSource(*todo[i]));
         } catch (const std::exception& e) {
-            errors[slot] = e.what();
+            failed[i] = e.what();
         }
     });
-    for (size_t i = 0; i < spec.objects.size(); ++i)
-        if (errors[slotOfObject[i]])
-            throw Error(spec.path + ": objects[" + std::to_string(i) + "] (" +
-                        spec.objects[i].name + "): " + *errors[slotOfObject[i]]);
-    return slotOfObject;
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (size_t i = 0; i < todo.size(); ++i) {
+        if (loaded[i]) volumes_[todoKeys[i]] = loaded[i];
+        else errors_[todoKeys[i]] = failed[i];
+    }
+    std::vector<std::string> errors(specs.size());
+    for (size_t s = 0; s < specs.size(); ++s)
+        for (size_t i = 0; i < specs[s]->objects.size(); ++i) {
+            const auto it = errors_.find(sourceKey(specs[s]->objects[i].source));
+            if (it == errors_.end()) continue;
+            errors[s] = specs[s]->path + ": objects[" + std::to_string(i) + "] (" +
+                        specs[s]->objects[i].name + "): " + it->second;
+            break;
+        }
+    return errors;
 }
+
+std::shared_ptr<const Volume> VolumeCache::get(const VolumeSourceSpec& source) {
+    const std::string key = sourceKey(source);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = volumes_.find(key);
+        if (it != volumes_.end()) return it->second;
+        const auto bad = errors_.find(key);
+        if (bad != errors_.end()) throw Error(bad->second);
+    }
+    auto volume = std::make_shared<const Volume>(loadSource(source));
+    std::lock_guard<std::mutex> lock(mutex_);
+    return volumes_.emplace(key, volume).first->second;
+}
+
+namespace {
 
 // A shallow copy of the volume's grid (same voxels) whose transform is followed by the object's
 // transform, so the grid maps index → scene world directly.
@@ -117,20 +159,22 @@ void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
 
 }  // namespace
 
-Scene::Scene(const SceneSpec& spec, bool progress) : spec_(spec) {
+Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(spec) {
     openvdb::initialize();
     camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
                             spec_.fovDegrees, double(spec_.width) / spec_.height, spec_.crop);
     ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);
-    std::vector<Volume> volumes;
-    const std::vector<size_t> volumeOfObject = loadSources(spec_, volumes);
+    VolumeCache own;
+    VolumeCache& volumes = cache ? *cache : own;
+    const std::string error = volumes.preload({&spec_}).front();
+    if (!error.empty()) throw Error(error);
     Vec3 lo(kInf), hi(-kInf);
     for (size_t i = 0; i < spec_.objects.size(); ++i) {
         const ObjectSpec& object = spec_.objects[i];
         const std::string context =
             spec_.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
-        const Volume& volume = volumes[volumeOfObject[i]];
-        openvdb::FloatGrid::Ptr grid = placeInWorld(volume, object.transform, context);
+        const std::shared_ptr<const Volume> volume = volumes.get(object.source);
+        openvdb::FloatGrid::Ptr grid = placeInWorld(*volume, object.transform, context);
         growByGridBox(*grid, lo, hi);
         const TangentAxes tangent = worldAxes(object);
         if (object.kind == ObjectSpec::Kind::IsoSurface) {

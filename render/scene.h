@@ -9,8 +9,12 @@
 #include "materials/material.h"
 #include "render/backdrop.h"
 #include "render/scene_description.h"
+#include "volume/volume.h"
 
+#include <map>
 #include <memory>
+#include <mutex>
+#include <string>
 #include <vector>
 
 namespace lobe {
@@ -38,11 +42,27 @@ struct SceneVolume {
     TangentAxes tangent;
 };
 
+// The volumes of a batch, each distinct source (file and load settings) loaded once and shared
+// by every scene that names it. Thread-safe.
+class VolumeCache {
+public:
+    // Loads every distinct source of `specs` not yet held, the files in parallel. Returns, per
+    // scene, its first error (the first failing object in scene order; "" when all loaded).
+    std::vector<std::string> preload(const std::vector<const SceneSpec*>& specs);
+    // The loaded volume of a source (loading it now if it is not held).
+    std::shared_ptr<const Volume> get(const VolumeSourceSpec& source);
+
+private:
+    std::mutex mutex_;
+    std::map<std::string, std::shared_ptr<const Volume>> volumes_;
+    std::map<std::string, std::string> errors_;  // key → message, for sources that failed
+};
+
 class Scene {
 public:
-    // Loads every source and builds the acceleration structures; throws lobe::Error naming the
-    // scene file and the object for anything it cannot load.
-    explicit Scene(const SceneSpec& spec, bool progress = true);
+    // Loads every source (from `cache` when given) and builds the acceleration structures;
+    // throws lobe::Error naming the scene file and the object for anything it cannot load.
+    explicit Scene(const SceneSpec& spec, bool progress = true, VolumeCache* cache = nullptr);
     ~Scene();
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;

@@ -1,6 +1,7 @@
 #include "render/scene_file.h"
 
 #include "core/error.h"
+#include "core/math.h"
 #include "materials/registry.h"
 
 #include <nlohmann/json.hpp>
@@ -193,11 +194,9 @@ ObjectTransform readTransform(Reader r) {
         t.linear = {{{s.x, 0, 0}, {0, s.y, 0}, {0, 0, s.z}}};
         t.translation = {tr.x, tr.y, tr.z};
     }
-    const auto& L = t.linear;
-    const double det = L[0][0] * (L[1][1] * L[2][2] - L[1][2] * L[2][1]) -
-                       L[0][1] * (L[1][0] * L[2][2] - L[1][2] * L[2][0]) +
-                       L[0][2] * (L[1][0] * L[2][1] - L[1][1] * L[2][0]);
-    if (!(std::abs(det) > 1e-12)) r.fail(r.path(), "the transform is singular (determinant 0)");
+    if (nearlySingular(t.linear))
+        r.fail(r.path(), "the transform is singular, or so nearly (its columns almost parallel) "
+                         "that it cannot be inverted");
     r.finish();
     return t;
 }
@@ -350,6 +349,11 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     Reader r(root, "", name);
     scene.title = r.string("title", fs::path(name).stem().string());
     scene.group = r.string("group", "");
+    // The group names a file (contact-sheet-GROUP.png): found here, not after the batch rendered.
+    for (const char c : scene.group)
+        if (c == '/' || c == '\\' || (unsigned char)c < 32)
+            r.fail("group", "'" + scene.group + "' names a file (contact-sheet-GROUP.png): no '/', "
+                            "'\\' or control characters");
     if (r.has("image")) {
         Reader img = r.child("image");
         scene.width = img.integer("width", scene.width, 1, 16384);

@@ -3,6 +3,7 @@
 #include "volume/volume_file.h"
 
 #include "core/error.h"
+#include "core/math.h"
 
 #include <zlib.h>
 
@@ -454,11 +455,9 @@ DenseVolume readNiftiDense(const std::string& path) {
     for (const auto& row : v.affine)
         for (double x : row)
             if (!std::isfinite(x)) throw Error(path + ": the header's orientation is not finite");
-    const double det = v.affine[0][0] * (v.affine[1][1] * v.affine[2][2] - v.affine[1][2] * v.affine[2][1]) -
-                       v.affine[0][1] * (v.affine[1][0] * v.affine[2][2] - v.affine[1][2] * v.affine[2][0]) +
-                       v.affine[0][2] * (v.affine[1][0] * v.affine[2][1] - v.affine[1][1] * v.affine[2][0]);
-    if (!(std::fabs(det) > 1e-12))
-        throw Error(path + ": the header's voxel-to-world map is singular (a zero voxel size?)");
+    if (nearlySingular(v.affine))
+        throw Error(path + ": the header's voxel-to-world map is singular or nearly so (a zero "
+                           "voxel size, or axes almost parallel)");
     return v;
 }
 

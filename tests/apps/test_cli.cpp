@@ -305,6 +305,27 @@ TEST(Cli, AnOverflowingHighlightIsFiniteAndWhite) {
     EXPECT_GT(white, 0u);
 }
 
+// A later scene's damaged volume is found before the first scene renders (volumes are loaded
+// for the whole batch first, each file once): no output, one message naming scene and object.
+TEST(Cli, BatchFindsALaterScenesBadVolumeBeforeRendering) {
+    const fs::path d = testDir();
+    fs::create_directories(d / "a");
+    fs::create_directories(d / "b");
+    const std::string good = sceneWith(d / "a", "", "");
+    std::string brain = readFile(kSource + "/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz");
+    std::ofstream(d / "b" / "broken.nii.gz", std::ios::binary) << brain.substr(0, 1000);
+    const std::string bad =
+        sceneWith(d / "b", kSource + "/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
+                  (d / "b" / "broken.nii.gz").string());
+    fs::rename(bad, d / "b" / "later.json");
+    const CliRun r = lobe("render " + quote(good) + " " + quote((d / "b" / "later.json").string()) +
+                          " --width 16 --spp 1 --quiet --out " + quote((d / "out").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("later.json: objects[1] (cortex)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.errLines(), 1) << r.err;
+    EXPECT_FALSE(fs::exists(d / "out"));
+}
+
 TEST(Cli, BatchCollisionsCheckSkipExistingAndKeepGoing) {
     const fs::path d = testDir();
     // Two scenes with the same file name in different folders: refused before anything renders.

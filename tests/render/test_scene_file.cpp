@@ -194,3 +194,26 @@ TEST(SceneFile, TooManyLightsAreRefusedByNumber) {
 }
 
 }  // namespace lobe
+
+namespace lobe {
+
+// A group names a file: a slash in it is refused when the scene is read (it failed after the
+// batch had rendered). Transforms are judged singular relative to their size: a 1e-5 scale is
+// fine, a shear of 1e12 is not.
+TEST(SceneFile, GroupNamesAFileAndSingularityIsRelative) {
+    std::string text = validScene();
+    text.replace(text.find("\"image\""), 0, "\"group\": \"a/b\", ");
+    EXPECT_NE(errorOf(text).find("scene.json: group: 'a/b' names a file"), std::string::npos)
+        << errorOf(text);
+    std::string tiny = validScene();
+    const std::string scale = "\"scale\": [1, -1, 2]";
+    tiny.replace(tiny.find(scale), scale.size(), "\"scale\": [1e-5, -1e-5, 2e-5]");
+    EXPECT_EQ(errorOf(tiny), "");
+    std::string shear = validScene();
+    const std::string scaled = "\"scale\": [1, -1, 2], \"translate\": [10, 0, 0]";
+    shear.replace(shear.find(scaled), scaled.size(),
+                  "\"matrix\": [[1, 1e12, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]");
+    EXPECT_NE(errorOf(shear).find("singular, or so nearly"), std::string::npos) << errorOf(shear);
+}
+
+}  // namespace lobe
