@@ -3,6 +3,7 @@
 #include "volume/volume_file.h"
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/math.h"
 
 #include <zlib.h>
@@ -178,13 +179,16 @@ bool endsWith(const std::string& s, const std::string& suffix) {
            lower(s.substr(s.size() - suffix.size())) == lower(suffix);
 }
 
-std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip) {
+std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip, size_t maxBytes,
+                                         const std::string& what, bool prefix) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw Error(path + ": cannot open the file (" + std::strerror(errno) + ")");
     if (!gzip) {
         probe.seekg(0, std::ios::end);
-        const std::streamoff size = probe.tellg();
+        std::streamoff size = probe.tellg();
         probe.seekg(0, std::ios::beg);
+        if (prefix) size = std::min<std::streamoff>(size, std::streamoff(std::min<size_t>(maxBytes, 1ull << 62)));
+        checkFits(double(size), path);
         std::vector<unsigned char> bytes(static_cast<size_t>(std::max<std::streamoff>(size, 0)));
         if (!bytes.empty() &&
             !probe.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))
@@ -216,6 +220,15 @@ std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip) {
         }
         if (n == 0) break;
         bytes.insert(bytes.end(), chunk.begin(), chunk.begin() + n);
+        if (bytes.size() > maxBytes) {
+            gzclose(file);
+            if (!prefix)
+                throw Error(path + ": the " + what + " contradicts the data size: the gzip data goes "
+                            "on past the " + std::to_string(maxBytes) + " bytes it describes "
+                            "(stopped inflating there)");
+            bytes.resize(maxBytes);
+            return bytes;
+        }
     }
     gzclose(file);
     return bytes;
@@ -310,12 +323,20 @@ DenseVolume decodeVoxels(const std::string& path, const std::vector<unsigned cha
     return v;
 }
 
+// Where a layout's voxel data ends: what a gzip stream may inflate to (see readFileBytes).
+static size_t dataEnd(std::int64_t offset, const std::array<int, 3>& dims, VoxelType type) {
+    const double end = double(offset) + double(std::max(dims[0], 0)) * std::max(dims[1], 0) *
+                                            std::max(dims[2], 0) * voxelTypeSize(type);
+    return end < 1e15 ? size_t(end) : size_t(1e15);
+}
+
 DenseVolume readRawDense(const std::string& path, const RawLayout& layout) {
     for (int a = 0; a < 3; ++a)
         if (!(layout.spacing[a] > 0.0) || !std::isfinite(layout.spacing[a]))
             throw Error(path + ": the layout's spacing must be three positive numbers");
     if (layout.offset < 0) throw Error(path + ": the layout's byte offset is negative");
-    const std::vector<unsigned char> bytes = readFileBytes(path, layout.gzip);
+    const std::vector<unsigned char> bytes =
+        readFileBytes(path, layout.gzip, dataEnd(layout.offset, layout.dims, layout.type), "layout");
     DenseVolume v = decodeVoxels(path, bytes, layout.offset, layout.dims, layout.type,
                                  layout.endian, 1.0, 0.0, "layout");
     v.affine = {{{layout.spacing[0], 0, 0, 0}, {0, layout.spacing[1], 0, 0},
@@ -345,6 +366,27 @@ private:
     bool swap_;
 };
 
+bool niftiType(int code, VoxelType& type);
+
+// The bytes a NIfTI-1 file holds according to its header (vox_offset + the voxels), or 352 when
+// the header is unusable (then only the header is read, and its parse names the problem).
+size_t niftiFileBytes(const std::vector<unsigned char>& head) {
+    if (head.size() < 352) return 352;
+    std::int32_t sizeofHdr;
+    std::memcpy(&sizeofHdr, head.data(), 4);
+    const bool swap = sizeofHdr != 348;
+    const HeaderReader r(head.data(), swap);
+    VoxelType type;
+    const int ndim = r.i16(40);
+    if (r.i32(0) != 348 || ndim < 1 || ndim > 7 || !niftiType(r.i16(70), type)) return 352;
+    double count = 1.0;
+    for (int a = 0; a < ndim; ++a) count *= std::max(1, int(r.i16(42 + 2 * a)));
+    const double offset = r.f32(108);
+    if (!(offset >= 348.0 && offset <= 1e12)) return 352;
+    const double bytes = offset + count * voxelTypeSize(type);
+    return bytes < 1e15 ? size_t(bytes) : 352;
+}
+
 bool niftiType(int code, VoxelType& type) {
     switch (code) {  // nifti1.h, NIFTI_TYPE_* codes
         case 2: type = VoxelType::kUint8; return true;
@@ -363,7 +405,9 @@ bool niftiType(int code, VoxelType& type) {
 
 DenseVolume readNiftiDense(const std::string& path) {
     const bool gz = endsWith(path, ".gz");
-    const std::vector<unsigned char> bytes = readFileBytes(path, gz);
+    // The header first, then no more data than it describes (a gzip bomb stops there).
+    const std::vector<unsigned char> head = readFileBytes(path, gz, 352, "header", true);
+    const std::vector<unsigned char> bytes = readFileBytes(path, gz, niftiFileBytes(head), "header");
     if (bytes.size() < 348)
         throw Error(path + ": truncated: " + std::to_string(bytes.size()) +
                     " bytes, shorter than the 348-byte NIfTI-1 header");
@@ -414,12 +458,17 @@ DenseVolume readNiftiDense(const std::string& path) {
                     " is not a whole byte offset at or after the 348-byte header");
     // nifti1.h: "If the scl_slope field is nonzero, then each voxel value in the dataset should
     // be scaled as y = scl_slope * x + scl_inter".
+    // A slope of 0 — and, as nibabel reads it, a NaN or infinite slope — means "not scaled"
+    // (some writers leave NaN for "unset"); a usable slope with a non-finite intercept has no
+    // meaning and is refused (as nibabel does).
     double slope = r.f32(112), inter = r.f32(116);
     if (slope == 0.0 || !std::isfinite(slope)) {
         slope = 1.0;
         inter = 0.0;
+    } else if (!std::isfinite(inter)) {
+        throw Error(path + ": the header's scl_slope is " + std::to_string(slope) +
+                    " but its scl_inter is not finite: the values cannot be scaled");
     }
-    if (!std::isfinite(inter)) inter = 0.0;
 
     DenseVolume v = decodeVoxels(path, bytes, static_cast<std::int64_t>(voxOffset), dims, type,
                                  swap == hostIsLittleEndian() ? Endian::kBig : Endian::kLittle,
@@ -578,7 +627,8 @@ DenseVolume readNrrdDense(const std::string& path) {
         const size_t slash = path.find_last_of('/');
         if (slash != std::string::npos) dataPath = path.substr(0, slash + 1) + dataFile;
     }
-    const std::vector<unsigned char> bytes = readFileBytes(dataPath, gzip);
+    const std::vector<unsigned char> bytes =
+        readFileBytes(dataPath, gzip, dataEnd(byteSkip, sizes, type), "header " + path);
     DenseVolume v = decodeVoxels(dataPath, bytes, byteSkip, sizes, type, endian, 1.0, 0.0,
                                  "header " + path);
     for (int row = 0; row < 3; ++row) {

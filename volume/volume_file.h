@@ -20,8 +20,13 @@ struct DenseVolume {
     double min = 0.0, max = 0.0;  // of values
 };
 
-// The whole file, decompressed when gzip is true (the gzip magic is checked first).
-std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip);
+// The whole file, decompressed when gzip is true (the gzip magic is checked first). A gzip
+// stream that inflates past `maxBytes` (what its header or layout — `what` — describes) is
+// refused there, so a small file cannot fill the memory (a 2 MB gzip bomb holds 2 GB). With
+// `prefix`, the first `maxBytes` are returned and the rest is not read.
+std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip,
+                                         size_t maxBytes = size_t(-1),
+                                         const std::string& what = "header", bool prefix = false);
 
 // Decodes count = dims product voxels of `type` from bytes[offset…], swapping bytes when the
 // file's endianness differs from the machine's, applies value·slope + inter, and refuses

@@ -8,6 +8,8 @@
 #include "volume/volume_summary.h"
 
 #include <gtest/gtest.h>
+
+#include <sys/resource.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -409,6 +411,48 @@ TEST(VolumeNifti, PixdimFallbackAndScaling) {
     EXPECT_FLOAT_EQ(valueAt(v, 1, 0, 0), 0.0f);  // 0.5·2 − 1: zero, the background
     EXPECT_FALSE(activeAt(v, 1, 0, 0));
     EXPECT_DOUBLE_EQ(v.originalMin, -0.5);
+}
+
+// Slopes that are 0, NaN or infinite mean "not scaled" (nifti1.h; nibabel for NaN and Inf); a
+// usable slope with a NaN or infinite intercept is refused, and so is a product beyond float.
+TEST(VolumeNifti, NonFiniteScalingIsReadAsNibabelReadsIt) {
+    NiftiSpec s;
+    for (const float slope : {std::nanf(""), INFINITY, -INFINITY}) {
+        s.slope = slope;
+        s.inter = 5;
+        const Volume v = loadNifti(writeFile("unscaled.nii", niftiFile(s, ramp(8))));
+        EXPECT_EQ(valueAt(v, 1, 0, 0), 2.0f);  // the raw value, intercept unused
+    }
+    s.slope = 2;
+    for (const float inter : {std::nanf(""), INFINITY}) {
+        s.inter = inter;
+        expectError([&] { loadNifti(writeFile("badinter.nii", niftiFile(s, ramp(8)))); },
+                    {"badinter.nii", "scl_inter is not finite"});
+    }
+    s.slope = 3e38f;
+    s.inter = 0;
+    expectError([&] { loadNifti(writeFile("overflow.nii", niftiFile(s, ramp(8)))); },
+                {"overflow.nii", "outside the float range"});
+}
+
+// A small gzip file whose data inflates far past what its header describes (a gzip bomb: 1 GB
+// of zeros in ~1 MB) is refused once the inflated data passes the header's size, not after
+// inflating it all.
+TEST(VolumeErrors, GzipBombStopsAtTheHeadersSize) {
+    const Bytes head = niftiFile(NiftiSpec(), ramp(8));
+    const fs::path path = tempDir() / "bomb.nii.gz";
+    gzFile f = gzopen(path.string().c_str(), "wb1");
+    gzwrite(f, head.data(), static_cast<unsigned>(head.size()));
+    const Bytes zeros(size_t(1) << 24, 0);
+    for (int i = 0; i < 64; ++i) gzwrite(f, zeros.data(), static_cast<unsigned>(zeros.size()));
+    gzclose(f);
+    rusage before{};
+    getrusage(RUSAGE_SELF, &before);
+    expectError([&] { loadNifti(path.string()); }, {"bomb.nii.gz", "goes on past the 360 bytes"});
+    rusage after{};
+    getrusage(RUSAGE_SELF, &after);
+    // The peak grew by far less than the 1 GB the file inflates to (ru_maxrss in KB).
+    EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 256 * 1024);
 }
 
 TEST(VolumeNifti, GzippedEqualsPlain) {
