@@ -327,10 +327,13 @@ void runRender(const RenderCommand& cmd) {
             const ImageChannels extra = passChannels(aov, aovs, spec);
             RgbImage rgb = filmToRgb(film, spec.exposure);
             applyTone(rgb, spec.tone);
-            // PNG first, EXR last: a resumed batch (--skip-existing) takes a scene as done only
-            // when both exist.
-            writeImage(base + ".png", rgb);
-            writeFilm(base + ".exr", film, spec.exposure, extra);
+            // Both written before either is put in place: a failed EXR after a good PNG (a full
+            // disk) leaves neither. EXR last: a resumed batch (--skip-existing) takes a scene as
+            // done only when both exist.
+            PendingImage png = writeImagePending(base + ".png", rgb);
+            PendingImage exr = writeFilmPending(base + ".exr", film, spec.exposure, extra);
+            png.commit();
+            exr.commit();
             if (!quiet && cluster::distributed())  // rank 0's counts are only its share
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
                                      "%s.png/.exr\n",

@@ -34,9 +34,9 @@ std::string temporarySibling(const std::string& path) {
         .string();
 }
 
-void writePixels(const std::string& path, int width, int height,
-                 const std::vector<std::string>& channelNames, const std::vector<float>& data,
-                 const ImageAttributes& attributes = {}) {
+PendingImage writePixels(const std::string& path, int width, int height,
+                         const std::vector<std::string>& channelNames, const std::vector<float>& data,
+                         const ImageAttributes& attributes = {}) {
     const std::string ext = lowerExtension(path);
     if (!isSupportedImageExtension(path))
         throw Error("cannot write '" + path + "': unsupported image extension '" + ext +
@@ -70,23 +70,28 @@ void writePixels(const std::string& path, int width, int height,
     }
 
     const std::string tmp = temporarySibling(path);
-    const RemovedOnInterrupt guard(tmp);
+    PendingImage pending(tmp, path);  // removes tmp unless committed
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
     bool ok = out->open(tmp, spec);
     ok = ok && out->write_image(spec.format, pixels);
     ok = out->close() && ok;
-    if (!ok) {
-        const std::string why = out->geterror();
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "': " + why);
+    if (!ok) throw Error("cannot write '" + path + "': " + out->geterror());
+    // OpenImageIO's PNG, JPEG and TIFF writers do not report a short write (a full disk left a
+    // truncated PNG and exit 0); the file is read back instead, and a lossless one compared
+    // byte for byte (a few ms for a 1024² PNG).
+    if (!isFloatFormat(ext)) {
+        std::vector<unsigned char> back(bytes.size());
+        auto in = OIIO::ImageInput::open(tmp);
+        const bool read = in && in->spec().width == width && in->spec().height == height &&
+                          in->spec().nchannels == 3 &&
+                          in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, back.data());
+        if (in) in->close();
+        const bool lossy = ext == ".jpg" || ext == ".jpeg";
+        if (!read || (!lossy && back != bytes))
+            throw Error("cannot write '" + path + "': the file written is incomplete (a full disk?)");
     }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "': " + ec.message());
-    }
+    return pending;
 }
 
 }  // namespace
@@ -97,12 +102,42 @@ bool isSupportedImageExtension(const std::string& path) {
            ext == ".jpeg";
 }
 
+PendingImage::PendingImage(std::string temporary, std::string path)
+    : temporary_(std::move(temporary)), path_(std::move(path)),
+      guard_(std::make_unique<RemovedOnInterrupt>(temporary_)) {}
+
+PendingImage::PendingImage(PendingImage&& other) noexcept
+    : temporary_(std::move(other.temporary_)), path_(std::move(other.path_)),
+      guard_(std::move(other.guard_)) {
+    other.temporary_.clear();
+}
+
+PendingImage::~PendingImage() {
+    if (!temporary_.empty()) std::remove(temporary_.c_str());
+}
+
+void PendingImage::commit() {
+    std::error_code ec;
+    fs::rename(temporary_, path_, ec);
+    if (ec) throw Error("cannot write '" + path_ + "': " + ec.message());  // the destructor removes it
+    temporary_.clear();
+}
+
+PendingImage writeImagePending(const std::string& path, const RgbImage& image) {
+    return writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb);
+}
+
 void writeImage(const std::string& path, const RgbImage& image) {
-    writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb);
+    writeImagePending(path, image).commit();
 }
 
 void writeFilm(const std::string& path, const Film& film, double exposure,
                const ImageChannels& extra, const ImageAttributes& attributes) {
+    writeFilmPending(path, film, exposure, extra, attributes).commit();
+}
+
+PendingImage writeFilmPending(const std::string& path, const Film& film, double exposure,
+                              const ImageChannels& extra, const ImageAttributes& attributes) {
     const RgbImage rgb = filmToRgb(film, exposure);
     const size_t n = size_t(film.width()) * film.height();
     const size_t k = extra.names.size();
@@ -124,7 +159,7 @@ void writeFilm(const std::string& path, const Film& film, double exposure,
     }
     std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};
     names.insert(names.end(), extra.names.begin(), extra.names.end());
-    writePixels(path, film.width(), film.height(), names, data, attributes);
+    return writePixels(path, film.width(), film.height(), names, data, attributes);
 }
 
 FloatImage readFloatImage(const std::string& path) {
@@ -148,7 +183,8 @@ FloatImage readFloatImage(const std::string& path) {
 
 void writeFloatImage(const std::string& path, const FloatImage& image) {
     writePixels(path, image.width, image.height, image.channels.names, image.channels.data,
-                image.attributes);
+                image.attributes)
+        .commit();
 }
 
 RgbImage readImage(const std::string& path) {

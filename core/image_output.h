@@ -10,6 +10,7 @@
 #include "core/rgb_image.h"
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,11 +25,33 @@ struct ImageChannels {
 // String attributes stored in an EXR's header (e.g. "lobe:shard"); 8-bit formats ignore them.
 using ImageAttributes = std::map<std::string, std::string>;
 
+// An image written completely under a temporary name beside its path, not yet in place:
+// commit() renames it there; destroyed uncommitted (an error in a later file of the same set),
+// or on SIGINT/SIGTERM (core/interrupt.h), the temporary file is removed. So a command that
+// writes several files (a render's PNG and EXR) puts them in place only when all were written.
+class PendingImage {
+public:
+    PendingImage(std::string temporary, std::string path);
+    PendingImage(PendingImage&& other) noexcept;
+    PendingImage& operator=(PendingImage&&) = delete;
+    ~PendingImage();
+    void commit();  // throws lobe::Error naming the path if the rename fails
+
+private:
+    std::string temporary_, path_;
+    std::unique_ptr<class RemovedOnInterrupt> guard_;
+};
+
 // Throws lobe::Error naming the path when the extension is unsupported or writing fails.
 void writeImage(const std::string& path, const RgbImage& image);
 // `extra` channels (an EXR only; ignored by 8-bit formats) follow R, G, B and the bands.
 void writeFilm(const std::string& path, const Film& film, double exposure = 1.0,
                const ImageChannels& extra = {}, const ImageAttributes& attributes = {});
+// The same, left pending (see PendingImage).
+[[nodiscard]] PendingImage writeImagePending(const std::string& path, const RgbImage& image);
+[[nodiscard]] PendingImage writeFilmPending(const std::string& path, const Film& film,
+                                            double exposure = 1.0, const ImageChannels& extra = {},
+                                            const ImageAttributes& attributes = {});
 
 // Every channel of a float image as stored, and its "lobe:" attributes: what `lobe merge`
 // assembles shard parts from, so the merged file holds exactly the floats a single render writes.

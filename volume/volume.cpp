@@ -4,9 +4,11 @@
 #include "volume/volume.h"
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "volume/volume_file.h"
 #include "volume/volume_summary.h"
 
+#include <openvdb/io/Stream.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
 
@@ -15,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -280,13 +283,25 @@ void writeVdb(const Volume& volume, const std::string& path, const std::string& 
     out->insertMeta(kMetaBackground, openvdb::DoubleMetadata(volume.background));
 
     const std::string temp = path + ".tmp" + std::to_string(::getpid());
+    const RemovedOnInterrupt guard(temp);
+    // Through a stream of our own: openvdb::io::File does not report a short write (a full disk
+    // left a truncated .vdb and exit 0), the stream's state does, and close() flushes.
     try {
-        openvdb::io::File file(temp);
-        file.write({out});
-        file.close();
+        std::ofstream os(temp, std::ios::binary | std::ios::trunc);
+        if (!os)
+            throw Error(path + ": cannot write the OpenVDB file (cannot create '" + temp + "': " +
+                        std::strerror(errno) + ")");
+        openvdb::io::Stream(os).write({out});
+        os.close();
+        if (!os)
+            throw Error(path + ": cannot write the OpenVDB file (" + std::strerror(errno) +
+                        "; a full disk?)");
     } catch (const openvdb::Exception& e) {
         std::remove(temp.c_str());
         throw Error(path + ": cannot write the OpenVDB file (" + e.what() + ")");
+    } catch (const Error&) {
+        std::remove(temp.c_str());
+        throw;
     }
     if (std::rename(temp.c_str(), path.c_str()) != 0) {
         std::remove(temp.c_str());

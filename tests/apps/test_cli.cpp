@@ -326,6 +326,38 @@ TEST(Cli, BatchFindsALaterScenesBadVolumeBeforeRendering) {
     EXPECT_FALSE(fs::exists(d / "out"));
 }
 
+// A full disk, simulated by a file-size limit (ulimit -f, SIGXFSZ ignored so that writes fail
+// with EFBIG as they would with ENOSPC): every writer says so, exits 1 and leaves no file — not a
+// truncated PNG or .vdb with exit 0, and no PNG without its EXR.
+TEST(Cli, AFullDiskIsAnErrorAndLeavesNoFile) {
+    const fs::path d = testDir();
+    const auto limited = [&](const std::string& args, int kilobytes) {
+        const std::string cmd = "bash -c " +
+                                quote("trap '' XFSZ; ulimit -f " + std::to_string(kilobytes) +
+                                      "; exec " + quote(kLobe) + " " + args) +
+                                " 2>" + quote((d / "err").string());
+        const int status = std::system(cmd.c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    };
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    fs::create_directories(d / "render");
+    EXPECT_EQ(limited("render " + quote(scene) + " --width 256 --spp 1 --quiet --out " +
+                          quote((d / "render").string()), 20), 1);
+    EXPECT_NE(readFile(d / "err").find("cannot write"), std::string::npos) << readFile(d / "err");
+    EXPECT_TRUE(fs::is_empty(d / "render"));
+    fs::create_directories(d / "sheet");
+    EXPECT_EQ(limited("contact-sheet --out " + quote((d / "sheet" / "s.png").string()) + " " +
+                          quote(kSource + "/docs/images/gallery.jpg"), 20), 1);
+    EXPECT_NE(readFile(d / "err").find("incomplete"), std::string::npos) << readFile(d / "err");
+    EXPECT_TRUE(fs::is_empty(d / "sheet"));
+    fs::create_directories(d / "vdb");
+    EXPECT_EQ(limited("convert " + quote(kSource + "/assets/cthead/cthead.nhdr") + " " +
+                          quote((d / "vdb" / "x.vdb").string()), 30), 1);
+    EXPECT_NE(readFile(d / "err").find("cannot write the OpenVDB file"), std::string::npos)
+        << readFile(d / "err");
+    EXPECT_TRUE(fs::is_empty(d / "vdb"));
+}
+
 TEST(Cli, BatchCollisionsCheckSkipExistingAndKeepGoing) {
     const fs::path d = testDir();
     // Two scenes with the same file name in different folders: refused before anything renders.
