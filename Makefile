@@ -4,7 +4,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 LOBE := $(BUILD_DIR)/apps/lobe
 
-.PHONY: demo test build setup bench clean
+.PHONY: demo test build setup bench clean fuzz
 
 setup:
 	@scripts/setup.sh
@@ -20,8 +20,19 @@ demo: build
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
+# Fuzzing (clang, libFuzzer) in an ASan + UBSan build of its own (build-fuzz): every target in
+# fuzz/ for FUZZ_SECONDS (default 60) from the seeds in fuzz/corpus/ and what earlier runs found.
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := fuzz_nifti fuzz_nrrd fuzz_raw fuzz_vdb fuzz_scene fuzz_brdf_line
+fuzz: setup
+	@CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DLOBE_SANITIZE=ON -DLOBE_FUZZ=ON -DLOBE_BUILD_BENCHMARKS=OFF -DLOBE_BUILD_TESTS=OFF >/dev/null
+	@cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(FUZZ_TARGETS)
+	scripts/run_fuzzers.sh $(FUZZ_DIR) $(FUZZ_SECONDS)
+
 bench: build
 	$(BUILD_DIR)/bench/lobe_bench_brdf
 
 clean:
-	rm -rf $(BUILD_DIR) out
+	rm -rf $(BUILD_DIR) $(FUZZ_DIR) out

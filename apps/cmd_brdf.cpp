@@ -1,6 +1,7 @@
 // `lobe brdf list | eval | props`: the reflection models as a tool. `eval` is the stable interface
 // other tools check the models through: one input line of six numbers (wi then wo, local frame,
 // normalised here) gives one output line of three band values with 10 significant digits.
+#include "apps/brdf_input.h"
 #include "apps/commands.h"
 #include "core/error.h"
 #include "core/tile_scheduler.h"
@@ -31,24 +32,6 @@ void listModels() {
                         p.defaultValue, p.minValue, p.maxValue, p.integer ? " integer" : "",
                         p.doc.c_str());
     }
-}
-
-// Parses "a,b,c,d,e,f" (spaces allowed around numbers); returns false on any malformation.
-bool parseSixNumbers(const std::string& line, double out[6]) {
-    std::stringstream ss(line);
-    std::string field;
-    int count = 0;
-    while (std::getline(ss, field, ',')) {
-        if (count == 6) return false;
-        const char* begin = field.c_str();
-        char* end = nullptr;
-        out[count] = std::strtod(begin, &end);
-        if (end == begin) return false;
-        while (*end == ' ' || *end == '\t' || *end == '\r') ++end;
-        if (*end != '\0' || !std::isfinite(out[count])) return false;
-        ++count;
-    }
-    return count == 6 && (line.empty() || line.back() != ',');
 }
 
 void evalModel(const std::string& name, const std::vector<std::string>& settings) {

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
   fonts-dejavu-core
   openmpi-bin libopenmpi-dev
+  clang libclang-rt-14-dev bc
 )
 
 missing=()

@@ -154,7 +154,7 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     openvdb::GridBase::Ptr base;
     try {
         openvdb::io::File file(path);
-        file.open();
+        file.open(/*delayLoad=*/false);  // read everything now, no delayed-load metadata
         if (!options.gridName.empty()) {
             if (!file.hasGrid(options.gridName)) {
                 std::string names;
@@ -180,6 +180,14 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
         file.close();
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": cannot read the OpenVDB file (" + e.what() + ")");
+    } catch (const std::bad_alloc&) {
+        // OpenVDB allocates what a file's size fields say before it reads the data: a damaged
+        // or hostile field asks for terabytes.
+        throw Error(path + ": cannot read the OpenVDB file (a size field asks for more memory "
+                           "than there is: the file is damaged)");
+    } catch (const std::length_error&) {
+        throw Error(path + ": cannot read the OpenVDB file (a size field is out of range: the "
+                           "file is damaged)");
     }
     openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
     if (!grid)
