@@ -218,22 +218,33 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
         // A foreign grid: its extent is the bounding box of everything stored.
         const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
         if (box.empty()) throw Error(path + ": grid '" + grid->getName() + "' is empty");
+        for (int a = 0; a < 3; ++a)  // CoordBBox::dim() is int: a span of 2^31 would overflow
+            if (int64_t(box.max()[a]) - box.min()[a] + 1 > int64_t(1) << 30)
+                throw Error(path + ": grid '" + grid->getName() + "' spans more than 2^30 voxels "
+                            "along an axis; Lobe's volumes span at most that");
         dims = openvdb::Vec3i(box.dim().x(), box.dim().y(), box.dim().z());
         origin = openvdb::Vec3i(box.min().x(), box.min().y(), box.min().z());
     }
     for (int a = 0; a < 3; ++a) {
-        if (dims[a] < 1) throw Error(path + ": metadata " + kMetaDims + " is not positive");
+        if (dims[a] < 1 || dims[a] > (1 << 30))
+            throw Error(path + ": metadata " + kMetaDims + " is not in 1 … 2^30 per axis");
         volume.dims[a] = dims[a];
         volume.indexOrigin[a] = origin[a];
     }
+    // Lobe's own metadata, checked like any input: what would the volume hold otherwise?
+    const auto finiteMeta = [&](const char* key, double& value) {
+        if (readMeta<openvdb::DoubleMetadata>(*grid, key, value) && !std::isfinite(value))
+            throw Error(path + ": metadata " + key + " is not a finite number");
+    };
     double storedScale = 1.0;
-    readMeta<openvdb::DoubleMetadata>(*grid, kMetaValueScale, storedScale);
-    if (!(storedScale > 0.0)) storedScale = 1.0;
+    finiteMeta(kMetaValueScale, storedScale);
+    if (!(storedScale > 0.0))
+        throw Error(path + ": metadata " + kMetaValueScale + " is not positive");
     volume.originalMin = lo / storedScale;
     volume.originalMax = hi / storedScale;
-    readMeta<openvdb::DoubleMetadata>(*grid, kMetaOriginalMin, volume.originalMin);
-    readMeta<openvdb::DoubleMetadata>(*grid, kMetaOriginalMax, volume.originalMax);
-    readMeta<openvdb::DoubleMetadata>(*grid, kMetaBackground, volume.background);
+    finiteMeta(kMetaOriginalMin, volume.originalMin);
+    finiteMeta(kMetaOriginalMax, volume.originalMax);
+    finiteMeta(kMetaBackground, volume.background);
     std::string source;
     if (readMeta<openvdb::StringMetadata>(*grid, kMetaSource, source)) volume.sourcePath = source;
 

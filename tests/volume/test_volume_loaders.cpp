@@ -579,6 +579,33 @@ TEST(VolumeVdb, RoundTripKeepsValuesTransformAndMetadata) {
     expectError([&] { loadVdb(out, wrong); }, {out, "no grid named 'nope'", "ct"});
 }
 
+// Lobe's metadata in a .vdb is input like any other: a NaN or infinite value scale, range or
+// background, or dims beyond 2^30 a side, is refused by name (a NaN scale was read as 1).
+TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
+    const Volume v = loadRaw(writeFile("m.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const std::string good = (tempDir() / "meta.vdb").string();
+    writeVdb(v, good);
+    const auto withMeta = [&](const std::string& name, const std::string& key,
+                              const openvdb::Metadata& value) {
+        openvdb::io::File in(good);
+        in.open();
+        openvdb::GridBase::Ptr grid = in.readGrid("density");
+        in.close();
+        grid->insertMeta(key, value);
+        const std::string path = (tempDir() / name).string();
+        openvdb::io::File(path).write({grid});
+        return path;
+    };
+    for (const char* key : {"lobe_value_scale", "lobe_original_min", "lobe_background"}) {
+        const std::string path = withMeta(std::string(key) + ".vdb", key,
+                                          openvdb::DoubleMetadata(std::nan("")));
+        expectError([&] { loadVdb(path); }, {path, std::string("metadata ") + key, "not a finite"});
+    }
+    const std::string huge =
+        withMeta("dims.vdb", "lobe_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(2, 1, 2000000000)));
+    expectError([&] { loadVdb(huge); }, {huge, "lobe_dims", "2^30"});
+}
+
 TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
     const Volume v = loadRaw(writeFile("w.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
     const fs::path dir = tempDir() / "no_such_dir";
