@@ -46,16 +46,11 @@ void evalModel(const std::string& name, const std::vector<std::string>& settings
             throw Error("standard input line " + std::to_string(lineNumber) +
                         ": expected six comma-separated numbers wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, "
                         "got '" + line + "'");
-        // Each direction divided by its largest component first, so that neither 1e308 nor
-        // 1e-300 components overflow or vanish in the length.
-        auto unit = [&](double x, double y, double z) {
-            const double m = std::max({std::abs(x), std::abs(y), std::abs(z)});
-            if (!(m > 0.0))
-                throw Error("standard input line " + std::to_string(lineNumber) +
-                            ": a direction is the zero vector");
-            return Vec3(x / m, y / m, z / m).normalized();
-        };
-        const Spectrum f = evalBrdf(brdf, unit(v[0], v[1], v[2]), unit(v[3], v[4], v[5]));
+        Vec3 wi, wo;
+        if (!unitDirection(v[0], v[1], v[2], wi) || !unitDirection(v[3], v[4], v[5], wo))
+            throw Error("standard input line " + std::to_string(lineNumber) +
+                        ": a direction is the zero vector");
+        const Spectrum f = evalBrdf(brdf, wi, wo);
         std::printf("%.10g,%.10g,%.10g\n", f[0], f[1], f[2]);
     }
 }

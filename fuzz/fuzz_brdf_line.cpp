@@ -13,17 +13,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!lobe::parseSixNumbers(line, v)) return 0;
     for (double x : v)
         if (!std::isfinite(x)) std::abort();
-    auto unit = [](double x, double y, double z) {
-        const double m = std::max({std::abs(x), std::abs(y), std::abs(z)});
-        return m > 0.0 ? lobe::Vec3(x / m, y / m, z / m).normalized() : lobe::Vec3(0, 0, 1);
-    };
     static const std::vector<lobe::Brdf> models = [] {
         std::vector<lobe::Brdf> all;
         for (const lobe::BrdfModelInfo& m : lobe::brdfModels()) all.push_back(lobe::makeBrdf(m.name, {}));
         return all;
     }();
+    lobe::Vec3 wi, wo;
+    if (!lobe::unitDirection(v[0], v[1], v[2], wi) || !lobe::unitDirection(v[3], v[4], v[5], wo))
+        return 0;
     for (const lobe::Brdf& brdf : models) {
-        const lobe::Spectrum f = lobe::evalBrdf(brdf, unit(v[0], v[1], v[2]), unit(v[3], v[4], v[5]));
+        const lobe::Spectrum f = lobe::evalBrdf(brdf, wi, wo);
         for (int b = 0; b < 3; ++b)
             if (!std::isfinite(f[b]) || f[b] < 0.0) std::abort();
     }

@@ -70,33 +70,33 @@ Volume loadSource(const VolumeSourceSpec& s) {
 // failure is reported for the first failing object in scene order, whatever order the loads
 // finished in.
 std::vector<std::string> VolumeCache::preload(const std::vector<const SceneSpec*>& specs) {
-    std::vector<const VolumeSourceSpec*> todo;
-    std::vector<std::string> todoKeys;
+    std::vector<const VolumeSourceSpec*> missing;
+    std::vector<std::string> missingKeys;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         for (const SceneSpec* spec : specs)
             for (const ObjectSpec& object : spec->objects) {
                 const std::string key = sourceKey(object.source);
                 if (volumes_.count(key) || errors_.count(key) ||
-                    std::find(todoKeys.begin(), todoKeys.end(), key) != todoKeys.end())
+                    std::find(missingKeys.begin(), missingKeys.end(), key) != missingKeys.end())
                     continue;
-                todo.push_back(&object.source);
-                todoKeys.push_back(key);
+                missing.push_back(&object.source);
+                missingKeys.push_back(key);
             }
     }
-    std::vector<std::shared_ptr<const Volume>> loaded(todo.size());
-    std::vector<std::string> failed(todo.size());
-    tbb::parallel_for(size_t(0), todo.size(), [&](size_t i) {
+    std::vector<std::shared_ptr<const Volume>> loaded(missing.size());
+    std::vector<std::string> failed(missing.size());
+    tbb::parallel_for(size_t(0), missing.size(), [&](size_t i) {
         try {
-            loaded[i] = std::make_shared<const Volume>(loadSource(*todo[i]));
+            loaded[i] = std::make_shared<const Volume>(loadSource(*missing[i]));
         } catch (const std::exception& e) {
             failed[i] = e.what();
         }
     });
     std::lock_guard<std::mutex> lock(mutex_);
-    for (size_t i = 0; i < todo.size(); ++i) {
-        if (loaded[i]) volumes_[todoKeys[i]] = loaded[i];
-        else errors_[todoKeys[i]] = failed[i];
+    for (size_t i = 0; i < missing.size(); ++i) {
+        if (loaded[i]) volumes_[missingKeys[i]] = loaded[i];
+        else errors_[missingKeys[i]] = failed[i];
     }
     std::vector<std::string> errors(specs.size());
     for (size_t s = 0; s < specs.size(); ++s)
