@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "volume/vdb_size_check.h"
 #include "volume/volume_file.h"
 #include "volume/volume_summary.h"
 
@@ -151,6 +152,7 @@ Volume loadNrrd(const std::string& path, const LoadOptions& options) {
 
 Volume loadVdb(const std::string& path, const LoadOptions& options) {
     initializeOpenVdb();
+    detail::checkVdbSizeFields(path);
     openvdb::GridBase::Ptr base;
     try {
         openvdb::io::File file(path);

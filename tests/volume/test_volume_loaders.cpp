@@ -18,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -604,6 +605,64 @@ TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
     const std::string huge =
         withMeta("dims.vdb", "lobe_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(2, 1, 2000000000)));
     expectError([&] { loadVdb(huge); }, {huge, "lobe_dims", "2^30"});
+}
+
+// A .vdb whose size fields claim more than the file holds is refused before OpenVDB builds a
+// buffer of that size (a 4 GB metadata string took seconds and gigabytes before the read
+// failed). Every registered metadata type of a valid file passes the same walk.
+TEST(VolumeErrors, VdbSizeFieldsBeyondTheFileAreRefusedUpFront) {
+    const Volume v = loadRaw(writeFile("s.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const std::string plain = (tempDir() / "sizes_plain.vdb").string();
+    writeVdb(v, plain);
+    openvdb::io::File in(plain);
+    in.open();
+    openvdb::GridBase::Ptr grid = in.readGrid("density");
+    in.close();
+    grid->insertMeta("comment", openvdb::StringMetadata("abc"));
+    grid->insertMeta("m_bool", openvdb::BoolMetadata(true));
+    grid->insertMeta("m_float", openvdb::FloatMetadata(1.5f));
+    grid->insertMeta("m_vec3d", openvdb::Vec3DMetadata(openvdb::Vec3d(1, 2, 3)));
+    grid->insertMeta("m_vec4s", openvdb::Vec4SMetadata(openvdb::Vec4s(1, 2, 3, 4)));
+    grid->insertMeta("m_mat4d", openvdb::Mat4DMetadata(openvdb::Mat4d::identity()));
+    const std::string good = (tempDir() / "sizes_good.vdb").string();
+    openvdb::MetaMap fileMeta;
+    fileMeta.insertMeta("note", openvdb::StringMetadata("file level"));
+    openvdb::io::File(good).write({grid}, fileMeta);
+    EXPECT_EQ(loadVdb(good).dims, v.dims);
+
+    std::ifstream f(good, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    // Patch the uint32 found LEAD bytes after the first occurrence of KEY to VALUE.
+    const auto patched = [&](const std::string& name, const std::string& key, size_t lead,
+                             std::uint32_t value) {
+        std::string b = bytes;
+        const size_t at = b.find(key);
+        EXPECT_NE(at, std::string::npos) << key;
+        std::memcpy(&b[at + key.size() + lead], &value, 4);
+        const std::string path = (tempDir() / name).string();
+        std::ofstream(path, std::ios::binary) << b;
+        return path;
+    };
+    // "comment", then the type name "string" (4 + 6 bytes), then the value's byte count.
+    const std::string longString = patched("long_string.vdb", "comment", 10, 0xF0000000u);
+    expectError([&] { loadVdb(longString); }, {longString, "metadata 'comment' value", "damaged"});
+    // The type name's own length.
+    const std::string longType = patched("long_type.vdb", "comment", 0, 0x7FFFFFFFu);
+    expectError([&] { loadVdb(longType); }, {longType, "metadata 'comment' type name", "damaged"});
+    // A fixed-size value whose byte count disagrees with its type.
+    const std::string badFloat = patched("bad_float.vdb", "m_float", 9, 3000000000u);
+    expectError([&] { loadVdb(badFloat); }, {badFloat, "'m_float' of type float", "instead of 4"});
+    // The file-level metadata and the grid's name.
+    const std::string fileNote = patched("file_note.vdb", "note", 10, 0x10000000u);
+    expectError([&] { loadVdb(fileNote); }, {fileNote, "file metadata 'note'", "damaged"});
+    // The grid's name: its length is the uint32 before the first "density".
+    std::string b = bytes;
+    const size_t nameAt = b.find("density") - 4;
+    const std::uint32_t hugeName = 0xFFFFFFF0u;
+    std::memcpy(&b[nameAt], &hugeName, 4);
+    const std::string badName = (tempDir() / "bad_name.vdb").string();
+    std::ofstream(badName, std::ios::binary) << b;
+    expectError([&] { loadVdb(badName); }, {badName, "grid 1 name", "damaged"});
 }
 
 TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
