@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "surface/iso_exact.h"
+#include "surface/iso_levelset.h"
 #include "surface/iso_mesh.h"
 #include "surface/surface_scene.h"
 #include "volume/gaussian_blur.h"
@@ -157,6 +158,22 @@ void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
     }
 }
 
+// The "levelset" method: a level-set source (grid class GRID_LEVEL_SET, e.g. a .vdb from
+// vdb_tool or Houdini) as it is, its zero crossing the surface; any other grid rebuilt as one.
+std::shared_ptr<const SurfaceGeometry> levelSetOf(const openvdb::FloatGrid::Ptr& grid,
+                                                  const ObjectSpec& object) {
+    if (grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
+        if (object.iso != 0.0)
+            throw Error("the source is a level set, whose surface is its zero crossing: set \"iso\": 0");
+        return std::make_shared<LevelSetSurface>(grid, object.name);
+    }
+    LevelSetOptions options;
+    options.voxelSize = object.levelSetVoxel;
+    options.halfWidth = object.levelSetHalfWidth;
+    options.smoothIterations = object.levelSetSmooth;
+    return LevelSetSurface::fromDensity(*grid, object.iso, options, object.name);
+}
+
 }  // namespace
 
 Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(spec) {
@@ -181,9 +198,11 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
             std::shared_ptr<const SurfaceGeometry> geometry;
             try {
-                if (object.method == "mesh")
+                if (object.method == "mesh") {
                     geometry = std::make_shared<IsoMeshSurface>(*grid, object.iso, object.name);
-                else
+                } else if (object.method == "levelset") {
+                    geometry = levelSetOf(grid, object);
+                } else
                     geometry = std::make_shared<IsoExactSurface>(*grid, object.iso, object.name);
             } catch (const Error& e) {
                 throw Error(context + ": " + e.what());

@@ -51,7 +51,10 @@ struct ObjectSpec {
     bool highlightTakesLight = true;
     // Iso-surfaces
     double iso = 0.5;
-    std::string method = "exact";  // exact | mesh
+    std::string method = "exact";  // exact | mesh | levelset
+    double levelSetVoxel = 0.0;      // levelset: world voxel size of the rebuild; 0: the source's
+    double levelSetHalfWidth = 3.0;  // levelset: band half width in voxels
+    int levelSetSmooth = 0;          // levelset: iterations of mean-curvature flow
     double opacity = 1.0;
     Spectrum color{1.0};           // surface colour multiplying the reflected light
     // Volumes

@@ -285,7 +285,12 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     if (o.kind == ObjectSpec::Kind::IsoSurface) {
         if (!r.has("iso")) r.fail(r.at("iso"), "missing (the iso value)");
         o.iso = r.number("iso", 0.5, -1e12, 1e12);
-        o.method = r.string("method", "exact", {"exact", "mesh"});
+        o.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
+        if (o.method == "levelset") {
+            o.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
+            o.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);
+            o.levelSetSmooth = r.integer("levelset_smooth", 0, 0, 1000);
+        }
         o.opacity = r.number("opacity", 1.0, 0.0, 1.0);
         o.color = r.bands("color", Spectrum(1.0), 0.0, 1e6);
     } else {

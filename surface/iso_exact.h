@@ -36,6 +36,7 @@
 #pragma once
 
 #include "surface/affine_map.h"
+#include "surface/brick_walk.h"
 #include "surface/surface_scene.h"
 
 #include <openvdb/Grid.h>
@@ -51,9 +52,9 @@ namespace lobe {
 
 class IsoExactSurface : public SurfaceGeometry {
 public:
-    static constexpr int kBrickCells = 8;                      // cells per brick side
-    static constexpr int kBrickPoints = kBrickCells + 1;       // lattice points per brick side
-    static constexpr int kBrickValues = kBrickPoints * kBrickPoints * kBrickPoints;
+    static constexpr int kBrickCells = BrickCells::kCells;     // cells per brick side
+    static constexpr int kBrickPoints = BrickCells::kPoints;   // lattice points per brick side
+    static constexpr int kBrickValues = BrickCells::kValues;
 
     // Throws lobe::Error (naming `name`) for a non-affine transform, a non-finite iso value or
     // non-finite voxel values.
@@ -75,31 +76,26 @@ public:
     // Index of the first cell (= first lattice point) of brick `brick`; the tests use it.
     const openvdb::Coord& brickOrigin(unsigned brick) const { return origins_[brick]; }
 
-private:
-    // Cell-class masks per brick: kMaskWords words of which word z (0…7) holds bit x + 8y of the
-    // cells (x, y, z) that straddle iso, and word kBrickCells + z those whose corners are all
-    // above iso. The cells in neither are all below iso.
-    static constexpr int kMaskWords = 2 * kBrickCells;
-    static_assert(kBrickCells * kBrickCells == 64, "one 64-bit word per z layer of cells");
+    // The Embree user-geometry callbacks (user_geometry.h), in index space.
+    const AffineMap& primitiveSpace() const { return map_; }
+    bool intersectPrimitive(unsigned brick, const Vec3& o, const Vec3& d, double tMin, double tMax,
+                            double& t) const {
+        return intersectBrick(brick, o, d, tMin, tMax, t);
+    }
+    const std::array<float, 6>& primitiveBounds(unsigned brick) const { return bounds_[brick]; }
+    Vec3 worldGradient(unsigned brick, const Vec3& u) const;  // ∇f in world space at index u
 
+private:
     void cellCorners(unsigned brick, const openvdb::Coord& cell, double c[8]) const;
     openvdb::Coord clampCell(unsigned brick, const Vec3& u) const;
-    Vec3 worldGradient(unsigned brick, const Vec3& u) const;  // ∇f in world space at index u
 
     double iso_ = 0.0;
     AffineMap map_;
     std::vector<openvdb::Coord> origins_;      // first cell (= first lattice point) of each brick
     std::vector<float> values_;                // kBrickValues per brick, x fastest
-    std::vector<std::uint64_t> cellMasks_;     // kMaskWords per brick (see kMaskWords)
-    // Per brick, the box of its straddling cells in cell units relative to the brick's first
-    // cell (lo xyz, hi xyz with hi exclusive, so 0 … 8); empty (lo > hi) when there are none.
-    std::vector<std::array<std::uint8_t, 6>> straddleBoxes_;
+    std::vector<BrickCells> cells_;            // cell classes per brick (brick_walk.h)
     std::vector<std::array<float, 6>> bounds_; // world AABB per brick (min xyz, max xyz)
     std::size_t candidateBricks_ = 0;
-
-    static void boundsCallback(const RTCBoundsFunctionArguments* args);
-    static void intersectCallback(const RTCIntersectFunctionNArguments* args);
-    static void occludedCallback(const RTCOccludedFunctionNArguments* args);
 };
 
 }  // namespace lobe

@@ -176,6 +176,26 @@ TEST(SceneFile, HighlightToneAndGreyBackdropKeys) {
     EXPECT_TRUE(t.backdrop.grey);
 }
 
+// The level-set method's keys: read with "method": "levelset", unknown with another method.
+TEST(SceneFile, LevelSetKeys) {
+    const SceneSpec d = parseScene(validScene(R"(, "method": "levelset")"), kBase, "scene.json");
+    EXPECT_EQ(d.objects[0].method, "levelset");
+    EXPECT_EQ(d.objects[0].levelSetVoxel, 0.0);
+    EXPECT_EQ(d.objects[0].levelSetHalfWidth, 3.0);
+    EXPECT_EQ(d.objects[0].levelSetSmooth, 0);
+    const SceneSpec o = parseScene(
+        validScene(R"(, "method": "levelset", "levelset_voxel": 0.5, "levelset_half_width": 4, "levelset_smooth": 2)"),
+        kBase, "scene.json");
+    EXPECT_EQ(o.objects[0].levelSetVoxel, 0.5);
+    EXPECT_EQ(o.objects[0].levelSetHalfWidth, 4.0);
+    EXPECT_EQ(o.objects[0].levelSetSmooth, 2);
+    EXPECT_NE(errorOf(validScene(R"(, "levelset_voxel": 0.5)")).find("levelset_voxel"), std::string::npos);
+    EXPECT_NE(errorOf(validScene(R"(, "method": "levelset", "levelset_half_width": 0.5)")).find("levelset_half_width"),
+              std::string::npos);
+    EXPECT_NE(errorOf(validScene(R"(, "method": "levelset", "levelset_smooth": 1.5)")).find("levelset_smooth"),
+              std::string::npos);
+}
+
 }  // namespace
 }  // namespace lobe
 

@@ -15,11 +15,13 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "surface/iso_exact.h"
+#include "surface/iso_levelset.h"
 #include "surface/iso_mesh.h"
 #include "surface/surface_scene.h"
 #include "surface_test_grids.h"
 
 #include <gtest/gtest.h>
+#include <openvdb/tools/LevelSetSphere.h>
 
 #include <cmath>
 #include <cstdio>
@@ -392,6 +394,273 @@ TEST(IsoMesh, SphereErrorAgainstExactIsMeasured) {
 TEST(IsoMesh, AnisotropicGridMeshIsInWorldSpace) {
     const int dims[3] = {32, 32, 16};
     measureMesh(kAniso, dims, "sphere 32x32x16 spacing 1,1,2");
+}
+
+// A closed mesh lets no ray through: rays aimed exactly at every vertex and at points along
+// every edge (where two triangles or two quads meet), from outside and from inside, all hit
+// no later than the point they aim at (Embree's robust traversal, embree_device.cpp).
+TEST(IsoMesh, ClosedMeshLetsNoRayThroughEdgesOrVertices) {
+    const int dims[3] = {32, 32, 32};
+    auto grid = sphereGrid(kIdentity, dims);
+    auto mesh = std::make_shared<IsoMeshSurface>(*grid, 0.0, "sphere");
+    SurfaceScene scene = sceneOf(mesh);
+    const std::vector<float>& v = mesh->vertices();
+    const std::vector<std::uint32_t>& q = mesh->quads();
+    const auto vertex = [&](std::uint32_t i) { return Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]); };
+    std::vector<Vec3> targets;
+    for (std::size_t i = 0; i < v.size() / 3; ++i) targets.push_back(vertex(std::uint32_t(i)));
+    for (std::size_t f = 0; f < q.size(); f += 4)
+        for (int e = 0; e < 4; ++e) {
+            const Vec3 a = vertex(q[f + e]), b = vertex(q[f + (e + 1) % 4]);
+            for (double s : {0.25, 0.5, 0.75}) targets.push_back(a + (b - a) * s);
+        }
+    // The quads' diagonals, shared by their two triangles: Embree splits a quad into
+    // (v0, v1, v3) and (v2, v3, v1).
+    for (std::size_t f = 0; f < q.size(); f += 4) {
+        const Vec3 a = vertex(q[f + 1]), c = vertex(q[f + 3]);
+        for (double s : {0.25, 0.5, 0.75}) targets.push_back(a + (c - a) * s);
+    }
+    Rng rng(7, 3);
+    int rays = 0, leaks = 0;
+    for (const Vec3& p : targets) {
+        const Vec3 out = normalized(p - kCentre);
+        // From outside along a tilted outward direction, and from near the centre.
+        const Vec3 tilt = normalized(out + randomUnit(rng) * 0.5);
+        Ray fromOutside;
+        fromOutside.o = p + tilt * 40.0;
+        fromOutside.d = -tilt;
+        Ray fromInside;
+        fromInside.o = kCentre + randomUnit(rng) * 0.5;
+        fromInside.d = normalized(p - fromInside.o);
+        for (const Ray& r : {fromOutside, fromInside}) {
+            ++rays;
+            const double reach = (p - r.o).length();
+            const auto hit = scene.intersect(r);
+            if (!hit || hit->t > reach + 1e-4) {
+                ++leaks;
+                if (leaks <= 5)
+                    std::printf("  leak: o (%.9g %.9g %.9g) d (%.9g %.9g %.9g) reach %.6f hit %s t %.6f\n",
+                                r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, reach, hit ? "yes" : "no",
+                                hit ? hit->t : 0.0);
+            }
+        }
+    }
+    std::printf("[mesh leak test] %zu quads, %d rays at vertices and edges, %d passed through\n",
+                mesh->quadCount(), rays, leaks);
+    EXPECT_GT(rays, 20000);
+    EXPECT_EQ(leaks, 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Level sets (iso_levelset.h): analytic distance fields used as they are, and density grids
+// rebuilt as level sets.
+
+// −φ as a grid (values, tiles and background negated): the field the exact reference solves.
+openvdb::FloatGrid::Ptr negated(const openvdb::FloatGrid& phi) {
+    openvdb::FloatGrid::Ptr g = phi.deepCopy();
+    for (auto it = g->beginValueAll(); it; ++it) it.setValue(-*it);
+    g->tree().root().setBackground(-phi.background(), /*updateChildNodes=*/false);
+    return g;
+}
+
+openvdb::FloatGrid::Ptr asLevelSet(openvdb::FloatGrid::Ptr g) {
+    g->setGridClass(openvdb::GRID_LEVEL_SET);
+    return g;
+}
+
+TEST(LevelSet, PlaneUnderAffineTransformsIsHitExactly) {
+    const RampCase cases[] = {
+        {"identity", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+        {"spacing 1,1,2", {{1, 0, 0}, {0, 1, 0}, {0, 0, 2}}},
+        {"rotated+flipped", {{0, -1, 0}, {1, 0, 0}, {0, 0, -1.5}}},
+        {"sheared", {{1, 0.25, 0}, {0, 0.75, 0.25}, {0.125, 0, 2}}},
+    };
+    // φ(x) = gw·x + b − level: a plane, exact under trilinear interpolation (dyadic values).
+    const Vec3 gw = Vec3(0.25, -0.5, 0.75);
+    const int dims[3] = {16, 16, 16};
+    for (const RampCase& rc : cases) {
+        SCOPED_TRACE(rc.name);
+        const Vec3 origin(3.0, -2.0, 5.0);
+        auto probe = makeGrid(dims, rc.linear, origin, 0.0f, [](const Vec3&) { return 0.0; });
+        const AffineMap map = AffineMap::fromTransform(probe->transform());
+        const double level = gw.dot(map.toWorld(Vec3(7.5, 7.5, 7.5)));
+        auto phi = asLevelSet(makeGrid(dims, rc.linear, origin, 1000.0f,
+                                       [&](const Vec3& x) { return gw.dot(x) - level; }));
+        auto surface = std::make_shared<LevelSetSurface>(phi, rc.name);
+        SurfaceScene scene = sceneOf(surface);
+        const Vec3 expectedNormal = gw / gw.length();  // ∇φ: out of the object (φ < 0)
+        Rng rng(42, 2);
+        int tested = 0;
+        for (int n = 0; n < 3000; ++n) {
+            const Vec3 oIdx(2 + 11 * rng.uniform(), 2 + 11 * rng.uniform(), 2 + 11 * rng.uniform());
+            Ray ray;
+            ray.o = map.toWorld(oIdx);
+            ray.d = randomUnit(rng);
+            const double tStar = (level - gw.dot(ray.o)) / gw.dot(ray.d);
+            if (!(tStar > 0.0)) continue;
+            const Vec3 hIdx = map.toIndex(ray.at(tStar));
+            if (hIdx.x < 1 || hIdx.y < 1 || hIdx.z < 1 || hIdx.x > 14 || hIdx.y > 14 || hIdx.z > 14)
+                continue;
+            ++tested;
+            const auto hit = scene.intersect(ray);
+            ASSERT_TRUE(hit) << "ray " << n;
+            EXPECT_NEAR(hit->t, tStar, 1e-6) << "ray " << n;
+            EXPECT_NEAR(hit->normal.x, expectedNormal.x, 1e-9);
+            EXPECT_NEAR(hit->normal.y, expectedNormal.y, 1e-9);
+            EXPECT_NEAR(hit->normal.z, expectedNormal.z, 1e-9);
+        }
+        EXPECT_GT(tested, 500);
+    }
+}
+
+// OpenVDB's own narrow-band sphere (3 voxels each side, tiles inside and outside): the band's
+// blocks are the only primitives, and every ray of the dense set (edges, corners, grazing) finds
+// the root of φ's interpolant that the independent reference finds.
+TEST(LevelSet, NarrowBandSphereNoMissesAndRootsWithin1e4Voxel) {
+    const int dims[3] = {32, 32, 32};
+    auto phi = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
+        float(kRadius), openvdb::Vec3f(float(kCentre.x), float(kCentre.y), float(kCentre.z)),
+        1.0f, 3.0f);
+    auto surface = std::make_shared<LevelSetSurface>(phi, "sphere");
+    EXPECT_GT(surface->blockCount(), 0u);
+    EXPECT_LE(surface->blockCount(), phi->tree().leafCount() * 8);
+    SurfaceScene scene = sceneOf(surface);
+    const std::vector<Ray> rays = sphereRays(AffineMap::fromTransform(phi->transform()), dims);
+    const ExactStats st = checkExactAgainstReference(*negated(*phi), scene, rays, 0.03, 5.0);
+    report("level set, OpenVDB narrow-band sphere", st);
+    EXPECT_EQ(st.missed, 0);
+    EXPECT_GT(st.hits, 3000);
+}
+
+// A torus's distance field on a sheared grid: roots against the reference, and on the torus.
+TEST(LevelSet, TorusOnAShearedGrid) {
+    const double sheared[3][3] = {{1, 0.25, 0}, {0, 0.75, 0.25}, {0.125, 0, 1.5}};
+    const int dims[3] = {40, 40, 28};
+    const double big = 8.0, small = 3.5;
+    const Vec3 c(21.0, 16.0, 22.0);
+    const auto torus = [&](const Vec3& x) {
+        const Vec3 p = x - c;
+        const double ring = std::sqrt(p.x * p.x + p.y * p.y) - big;
+        return std::sqrt(ring * ring + p.z * p.z) - small;
+    };
+    auto phi = asLevelSet(makeGrid(dims, sheared, Vec3(0.0), 100.0f, torus));
+    auto surface = std::make_shared<LevelSetSurface>(phi, "torus");
+    SurfaceScene scene = sceneOf(surface);
+    const AffineMap map = AffineMap::fromTransform(phi->transform());
+    auto reference = negated(*phi);
+    Rng rng(11, 4);
+    int hits = 0, missed = 0;
+    double maxErr = 0.0, maxTorus = 0.0;
+    for (int n = 0; n < 4000; ++n) {
+        // Towards a random point near the torus's tube, from 60 units away.
+        const double a = 2 * kPi * rng.uniform();
+        const Vec3 aim = c + Vec3(big * std::cos(a), big * std::sin(a), 0.0) + randomUnit(rng) * (small * rng.uniform());
+        Ray ray;
+        ray.d = randomUnit(rng);
+        ray.o = aim - ray.d * 60.0;
+        const Vec3 oIdx = map.toIndex(ray.o), dIdx = map.directionToIndex(ray.d);
+        const auto ref = referenceRoot(*reference, 0.0, oIdx, dIdx, 0.0, 200.0);
+        const auto hit = scene.intersect(ray);
+        if (ref && !hit) {
+            ++missed;
+            continue;
+        }
+        if (!hit) continue;
+        ++hits;
+        ASSERT_TRUE(ref) << "a hit where the reference finds none, ray " << n;
+        const double err = std::abs(hit->t - *ref) * dIdx.length();
+        maxErr = std::max(maxErr, err);
+        EXPECT_LT(err, 1e-4) << "ray " << n;
+        maxTorus = std::max(maxTorus, std::abs(torus(hit->position)));
+    }
+    std::printf("[level set, torus on a sheared grid] rays 4000, hits %d, missed %d, max |t − t_ref| "
+                "%.3g voxel, max |φ_torus(hit)| %.4f\n", hits, missed, maxErr, maxTorus);
+    EXPECT_EQ(missed, 0);
+    EXPECT_GT(hits, 2000);
+    EXPECT_LT(maxTorus, 0.1);  // interpolation error of the sampled distance, not a wrong root
+}
+
+// A density rebuilt as a level set (levelSetRebuild): negative inside, where the density is
+// above iso; the surface close to the density's own iso-surface; for a shell, the cavity is
+// outside (normals point into it). An isotropic rebuild at half the voxel size is closer.
+TEST(LevelSet, FromDensitySignAccuracyAndVoxelSize) {
+    const int dims[3] = {32, 32, 32};
+    auto density = sphereGrid(kIdentity, dims);  // R − |x − c|: positive inside
+    auto surface = LevelSetSurface::fromDensity(*density, 0.0, LevelSetOptions{}, "sphere");
+    const auto phiAt = [&](const Vec3& x) { return sampleIndex(surface->levelSet(), surface->map().toIndex(x)); };
+    EXPECT_LT(phiAt(kCentre + Vec3(0, 0, kRadius - 1.5)), 0.0);
+    EXPECT_GT(phiAt(kCentre + Vec3(0, 0, kRadius + 1.5)), 0.0);
+    LevelSetOptions fine;
+    fine.voxelSize = 0.5;
+    auto fineSurface = LevelSetSurface::fromDensity(*density, 0.0, fine, "sphere");
+    EXPECT_GT(fineSurface->blockCount(), surface->blockCount());
+    const AffineMap map = AffineMap::fromTransform(density->transform());
+    const std::vector<Ray> rays = sphereRays(map, dims);
+    auto exactScene = sceneOf(std::make_shared<IsoExactSurface>(*density, 0.0, "sphere"));
+    double maxErr[2] = {0, 0};
+    int index = 0;
+    for (const auto& s : {surface, fineSurface}) {
+        SurfaceScene scene = sceneOf(s);
+        int both = 0;
+        for (const Ray& ray : rays) {
+            const auto e = exactScene.intersect(ray);
+            const auto h = scene.intersect(ray);
+            const double lineDistance = (kCentre - ray.o).cross(ray.d).length();
+            if (e && lineDistance < kRadius - 1.0) {
+                EXPECT_TRUE(h) << "a ray well inside the outline missed";
+            }
+            if (!e || !h) continue;
+            ++both;
+            maxErr[index] = std::max(maxErr[index], std::abs((h->position - kCentre).length() - kRadius));
+            EXPECT_GT(h->normal.dot(h->position - kCentre), 0.0);  // outwards
+        }
+        EXPECT_GT(both, 3000);
+        ++index;
+    }
+    // The exact method's own distance to the sphere is 0.025 (IsoExact above), the mesh's 0.064.
+    std::printf("[level set from density, sphere 32³] max ||x − c| − R|: %.4f (source voxel), "
+                "%.4f (voxel 0.5)\n", maxErr[0], maxErr[1]);
+    EXPECT_LT(maxErr[0], 0.15);
+    EXPECT_LT(maxErr[1], 0.15);
+
+    // A shell 6 < r < 10: from the centre, the first hit is the inner wall, facing the centre.
+    auto shell = makeGrid(dims, kIdentity, Vec3(0.0), -20.0f, [](const Vec3& x) {
+        const double r = (x - kCentre).length();
+        return std::min(r - 6.0, kRadius - r);
+    });
+    SurfaceScene shellScene = sceneOf(LevelSetSurface::fromDensity(*shell, 0.0, LevelSetOptions{}, "shell"));
+    Rng rng(5, 5);
+    for (int n = 0; n < 200; ++n) {
+        Ray ray;
+        ray.o = kCentre;
+        ray.d = randomUnit(rng);
+        const auto hit = shellScene.intersect(ray);
+        ASSERT_TRUE(hit);
+        EXPECT_NEAR(hit->t, 6.0, 0.25);
+        EXPECT_LT(hit->normal.dot(ray.d), 0.0);  // facing the cavity
+    }
+}
+
+TEST(LevelSet, BadOptionsAreErrors) {
+    const int dims[3] = {8, 8, 8};
+    auto density = sphereGrid(kIdentity, dims);
+    LevelSetOptions narrow;
+    narrow.halfWidth = 0.5;
+    EXPECT_THROW(LevelSetSurface::fromDensity(*density, 0.0, narrow, "g"), Error);
+    LevelSetOptions negative;
+    negative.voxelSize = -1.0;
+    EXPECT_THROW(LevelSetSurface::fromDensity(*density, 0.0, negative, "g"), Error);
+    EXPECT_THROW(LevelSetSurface::fromDensity(*density, std::nan(""), LevelSetOptions{}, "g"), Error);
+    LevelSetOptions tiny;
+    tiny.voxelSize = 1e-6;  // a 32³ box at 1e-6: 3e22 voxels
+    const int bigDims[3] = {32, 32, 32};
+    auto big = sphereGrid(kIdentity, bigDims);
+    try {
+        LevelSetSurface::fromDensity(*big, 0.0, tiny, "big.vdb");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("big.vdb"), std::string::npos) << e.what();
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,0 +1,241 @@
+// The walk through one 8³ block of trilinear cells that finds the first root of f − iso along a
+// ray, shared by the exact iso-surface (iso_exact.h: values copied into bricks) and the level set
+// (iso_levelset.h: values read from the OpenVDB tree). The method and its guarantees are those
+// described in iso_exact.h (Marmitt et al., VMV 2004; Amanatides & Woo 1987); the cell values
+// come from a Corners callback, so both methods run the very same arithmetic.
+//
+// A brick is the 8³ cells whose first corner lies in [origin, origin + 8)³ (origin a multiple of
+// 8, OpenVDB's leaf alignment); it reads the 9³ lattice points origin … origin + 8.
+#pragma once
+
+#include "core/math.h"
+#include "surface/trilinear_cell.h"
+
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace lobe {
+
+struct BrickCells {
+    static constexpr int kCells = 8;            // cells per brick side
+    static constexpr int kPoints = kCells + 1;  // lattice points per brick side
+    static constexpr int kValues = kPoints * kPoints * kPoints;
+    // Cell-class masks: word z (0…7) holds bit x + 8y of the cells (x, y, z) that straddle iso,
+    // word kCells + z those whose corners are all above iso; the cells in neither are all below.
+    static constexpr int kMaskWords = 2 * kCells;
+    static_assert(kCells * kCells == 64, "one 64-bit word per z layer of cells");
+
+    std::uint64_t masks[kMaskWords] = {};
+    // The box of the straddling cells in cells relative to the origin (lo xyz, hi xyz, hi
+    // exclusive, 0 … 8); empty (lo > hi) when none straddles.
+    std::array<std::uint8_t, 6> straddleBox{kCells, kCells, kCells, 0, 0, 0};
+
+    bool anyStraddles() const { return straddleBox[0] < straddleBox[3]; }
+
+    // Classifies the 8³ cells from the brick's 9³ lattice values (x fastest), compared in double
+    // exactly as the per-cell test they replace: straddling (min ≤ iso ≤ max over the 8 corners),
+    // all above (min > iso), else all below.
+    static BrickCells classify(const float* v, double iso);
+};
+
+namespace brick_walk_detail {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Bricks are entered this much early and left this much late (index units, voxels), so a root
+// lying on a brick face is found by at least one of the two bricks despite rounding.
+constexpr double kBrickOverlapVoxels = 1e-7;
+// Root refinement stops when the bracket is this short (index units, voxels).
+constexpr double kRootToleranceVoxels = 1e-10;
+// Margin of the straddling-cell box test (index units): far above the walk's rounding (~1e-13
+// voxel at CT coordinates) and the brick overlap (1e-7), far below a cell.
+constexpr double kStraddleBoxMarginVoxels = 1e-5;
+}  // namespace brick_walk_detail
+
+inline BrickCells BrickCells::classify(const float* v, double iso) {
+    BrickCells b;
+    for (int z = 0; z < kCells; ++z)
+        for (int y = 0; y < kCells; ++y)
+            for (int x = 0; x < kCells; ++x) {
+                const int base = x + kPoints * (y + kPoints * z);
+                double cMin = brick_walk_detail::kInf, cMax = -brick_walk_detail::kInf;
+                for (int c = 0; c < 8; ++c) {
+                    const double w = v[base + ((c & 1) ? 1 : 0) + ((c & 2) ? kPoints : 0) +
+                                       ((c & 4) ? kPoints * kPoints : 0)];
+                    cMin = std::min(cMin, w);
+                    cMax = std::max(cMax, w);
+                }
+                const std::uint64_t bit = std::uint64_t(1) << (x + kCells * y);
+                if (cMin > iso) {
+                    b.masks[kCells + z] |= bit;
+                } else if (!(cMax < iso)) {
+                    b.masks[z] |= bit;
+                    const int xyz[3] = {x, y, z};
+                    for (int a = 0; a < 3; ++a) {
+                        b.straddleBox[a] = static_cast<std::uint8_t>(std::min<int>(b.straddleBox[a], xyz[a]));
+                        b.straddleBox[a + 3] =
+                            static_cast<std::uint8_t>(std::max<int>(b.straddleBox[a + 3], xyz[a] + 1));
+                    }
+                }
+            }
+    return b;
+}
+
+// The first root of f − iso along the index-space ray o + t·d, t ∈ [tMin, tMax], inside the
+// brick at `origin`. corners(lx, ly, lz, c) fills c[8] (trilinear_cell.h order) for the cell at
+// origin + (lx, ly, lz), 0 ≤ l < 8; it is called for straddling cells only.
+template <typename Corners>
+bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, double iso,
+                      const Vec3& o, const Vec3& d, double tMin, double tMax,
+                      const Corners& corners, double& tHit) {
+    using namespace brick_walk_detail;
+    constexpr int kCells = BrickCells::kCells;
+    const double dLen = d.length();
+    if (!(dLen > 0.0) || !std::isfinite(dLen)) return false;
+    // Slab clip against the brick's index box, widened by the overlap (in t units).
+    const double overlap = kBrickOverlapVoxels / dLen;
+    double t0 = tMin, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = origin[a], hi = origin[a] + kCells;
+        if (d[a] == 0.0) {
+            if (o[a] < lo - kBrickOverlapVoxels || o[a] > hi + kBrickOverlapVoxels) return false;
+            continue;
+        }
+        double ta = (lo - o[a]) / d[a], tb = (hi - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta - overlap);
+        t1 = std::min(t1, tb + overlap);
+    }
+    if (!(t0 <= t1)) return false;
+    {
+        // Early out: [t0, t1] misses the box of the brick's straddling cells, widened by
+        // kStraddleBoxMarginVoxels to cover the walk's rounding and the cells it clamps in from
+        // the overlap. The walk itself still starts at t0, so a ray that passes is unchanged.
+        const std::array<std::uint8_t, 6>& sb = cells.straddleBox;
+        double s0 = t0, s1 = t1;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = origin[a] + sb[a] - kStraddleBoxMarginVoxels;
+            const double hi = origin[a] + sb[a + 3] + kStraddleBoxMarginVoxels;
+            if (d[a] == 0.0) {
+                if (!(o[a] >= lo && o[a] <= hi)) return false;
+                continue;
+            }
+            double ta = (lo - o[a]) / d[a], tb = (hi - o[a]) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            s0 = std::max(s0, ta);
+            s1 = std::min(s1, tb);
+        }
+        if (!(s0 <= s1)) return false;
+    }
+
+    // DDA state per axis (Amanatides & Woo 1987): the next integer plane k, reached at
+    // tNext = (k − o)/d (computed from the integer k each time so nothing drifts), and the cell
+    // the ray is in, relative to the brick's first cell. The cell lies just behind k: k − 1 going
+    // up, k going down; an axis the ray does not move along keeps floor(o). The first cell is
+    // clamped to one outside the brick (the overlap of kBrickOverlapVoxels can start there);
+    // lookups clamp it into the brick, extending the boundary cell's interpolant over the overlap.
+    int step[3], cell[3];
+    double k[3], tNext[3];
+    for (int a = 0; a < 3; ++a) {
+        const double p = o[a] + t0 * d[a];
+        double c;
+        if (d[a] > 0.0) {
+            step[a] = 1;
+            k[a] = std::floor(p) + 1.0;
+            c = k[a] - 1.0;
+        } else if (d[a] < 0.0) {
+            step[a] = -1;
+            k[a] = std::ceil(p) - 1.0;
+            c = k[a];
+        } else {
+            step[a] = 0;
+            k[a] = 0.0;
+            c = std::floor(p);
+        }
+        tNext[a] = step[a] ? (k[a] - o[a]) / d[a] : kInf;
+        c -= origin[a];
+        cell[a] = (c >= -1.0) ? (c <= kCells ? static_cast<int>(c) : kCells) : -1;
+    }
+
+    const std::uint64_t* masks = cells.masks;
+    const double tol = kRootToleranceVoxels / dLen;
+    double t = t0;
+    double gPrevEnd = 0.0;  // g at the end of the previous segment; 0: none yet
+    // Bounded: each pass moves at least one axis one plane (≤ ~3·(8+2) passes per brick).
+    for (int guard = 0; guard < 4 * 3 * (kCells + 4) && t <= t1; ++guard) {
+        const double tEnd = std::min(t1, std::min(tNext[0], std::min(tNext[1], tNext[2])));
+        if (tEnd > t || (tEnd == t && t == t1)) {
+            const int lx = std::min(kCells - 1, std::max(0, cell[0]));
+            const int ly = std::min(kCells - 1, std::max(0, cell[1]));
+            const int lz = std::min(kCells - 1, std::max(0, cell[2]));
+            const std::uint64_t bit = std::uint64_t(1) << (lx + kCells * ly);
+            if (masks[lz] & bit) {
+                // The 8 corners straddle iso: the cubic along the segment (trilinear_cell.h).
+                double c[8];
+                corners(lx, ly, lz, c);
+                const Vec3 p = o + d * t;
+                const Vec3 u0(p.x - (origin.x() + lx), p.y - (origin.y() + ly), p.z - (origin.z() + lz));
+                Cubic g = trilinearAlongRay(c, u0, d);
+                g.c[0] -= iso;
+                const double g0 = g.c[0];
+                if ((g0 < 0.0 && gPrevEnd > 0.0) || (g0 > 0.0 && gPrevEnd < 0.0)) {
+                    tHit = t;  // the sign changed exactly on the face between two cells
+                    return true;
+                }
+                double s = 0.0;
+                if (firstRootOnInterval(g, tEnd - t, tol, s)) {
+                    tHit = std::min(t + s, t1);
+                    return true;
+                }
+                gPrevEnd = g(tEnd - t);
+            } else if (masks[kCells + lz] & bit) {
+                if (gPrevEnd < 0.0) { tHit = t; return true; }
+                gPrevEnd = 1.0;  // the whole cell is above iso
+            } else {
+                if (gPrevEnd > 0.0) { tHit = t; return true; }
+                gPrevEnd = -1.0;  // the whole cell is below iso
+            }
+        }
+        if (tEnd >= t1) break;
+        for (int a = 0; a < 3; ++a) {
+            if (tNext[a] <= tEnd) {
+                k[a] += step[a];
+                cell[a] += step[a];
+                tNext[a] = (k[a] - o[a]) / d[a];
+            }
+        }
+        t = std::max(t, tEnd);
+    }
+    return false;
+}
+
+// World AABB of a brick's 8 index-space corners (widened by 1e-3 voxel), padded by a relative
+// margin and rounded outwards to float so float traversal never culls a grazing ray.
+template <typename Map>
+std::array<float, 6> brickWorldBounds(const Map& map, const openvdb::Coord& o) {
+    constexpr int kCells = BrickCells::kCells;
+    double mn[3] = {brick_walk_detail::kInf, brick_walk_detail::kInf, brick_walk_detail::kInf};
+    double mx[3] = {-mn[0], -mn[0], -mn[0]};
+    for (int c = 0; c < 8; ++c) {
+        const Vec3 u(o.x() + ((c & 1) ? kCells : 0) + ((c & 1) ? 1e-3 : -1e-3),
+                     o.y() + ((c & 2) ? kCells : 0) + ((c & 2) ? 1e-3 : -1e-3),
+                     o.z() + ((c & 4) ? kCells : 0) + ((c & 4) ? 1e-3 : -1e-3));
+        const Vec3 w = map.toWorld(u);
+        for (int a = 0; a < 3; ++a) {
+            mn[a] = std::min(mn[a], w[a]);
+            mx[a] = std::max(mx[a], w[a]);
+        }
+    }
+    std::array<float, 6> box{};
+    for (int a = 0; a < 3; ++a) {
+        const double pad = 1e-5 * (std::abs(mn[a]) + std::abs(mx[a]) + 1.0);
+        box[a] = std::nextafter(static_cast<float>(mn[a] - pad), -std::numeric_limits<float>::infinity());
+        box[a + 3] = std::nextafter(static_cast<float>(mx[a] + pad), std::numeric_limits<float>::infinity());
+    }
+    return box;
+}
+
+}  // namespace lobe

@@ -1,0 +1,113 @@
+// The Embree user-geometry glue shared by the surfaces that find their own roots (the exact
+// iso-surface and the level set): bounds, intersect and occluded callbacks over a Surface that
+// provides
+//   const AffineMap& primitiveSpace() const;   // world → the space its primitives live in
+//   const std::array<float, 6>& primitiveBounds(unsigned prim) const;   // world AABB
+//   bool intersectPrimitive(unsigned prim, const Vec3& o, const Vec3& d, double tMin,
+//                           double tMax, double& t) const;   // the ray in primitive space
+//   Vec3 worldGradient(unsigned prim, const Vec3& u) const;  // world ∇f at u (primitive space)
+// (An affine map keeps the ray parameter t, so t is the same in both spaces.)
+// Single rays from SurfaceScene carry their double-precision ray in RayContext (surface_scene.h)
+// and get their double hit distance back through it.
+#pragma once
+
+#include "surface/affine_map.h"
+#include "surface/surface_scene.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace lobe::user_geometry {
+
+// The ray of lane i: the caller's double ray when SurfaceScene passed one (single rays), else
+// Embree's float copy. tMax also respects the best double hit recorded so far.
+inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx, Vec3& o, Vec3& d,
+                    double& tMin, double& tMax) {
+    const double tfar = RTCRayN_tfar(ray, N, i);
+    if (N == 1 && ctx && ctx->ray) {
+        o = ctx->ray->o;
+        d = ctx->ray->d;
+        tMin = std::max(0.0, ctx->ray->tMin);
+        tMax = std::min(tfar, ctx->ray->tMax);
+        if (ctx->geomId != RTC_INVALID_GEOMETRY_ID) tMax = std::min(tMax, ctx->tHit);
+    } else {
+        o = Vec3(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
+        d = Vec3(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+        tMin = RTCRayN_tnear(ray, N, i);
+        tMax = tfar;
+    }
+}
+
+template <typename Surface>
+void bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* self = static_cast<const Surface*>(args->geometryUserPtr);
+    const std::array<float, 6>& b = self->primitiveBounds(args->primID);
+    args->bounds_o->lower_x = b[0];
+    args->bounds_o->lower_y = b[1];
+    args->bounds_o->lower_z = b[2];
+    args->bounds_o->upper_x = b[3];
+    args->bounds_o->upper_y = b[4];
+    args->bounds_o->upper_z = b[5];
+}
+
+template <typename Surface>
+void intersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* self = static_cast<const Surface*>(args->geometryUserPtr);
+    auto* ctx = reinterpret_cast<RayContext*>(args->context);
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        Vec3 o, d;
+        double tMin, tMax;
+        laneRay(ray, args->N, i, ctx, o, d, tMin, tMax);
+        const Vec3 oi = self->primitiveSpace().toIndex(o), di = self->primitiveSpace().directionToIndex(d);
+        double t;
+        if (!self->intersectPrimitive(args->primID, oi, di, tMin, tMax, t)) continue;
+        const Vec3 ng = -self->worldGradient(args->primID, oi + di * t);
+        RTCRayN_tfar(ray, args->N, i) = static_cast<float>(t);
+        RTCHitN_Ng_x(hit, args->N, i) = static_cast<float>(ng.x);
+        RTCHitN_Ng_y(hit, args->N, i) = static_cast<float>(ng.y);
+        RTCHitN_Ng_z(hit, args->N, i) = static_cast<float>(ng.z);
+        RTCHitN_u(hit, args->N, i) = 0.0f;
+        RTCHitN_v(hit, args->N, i) = 0.0f;
+        RTCHitN_primID(hit, args->N, i) = args->primID;
+        RTCHitN_geomID(hit, args->N, i) = args->geomID;
+        RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
+        if (args->N == 1 && ctx && ctx->ray) {
+            ctx->tHit = t;
+            ctx->geomId = args->geomID;
+            ctx->primId = args->primID;
+        }
+    }
+}
+
+template <typename Surface>
+void occluded(const RTCOccludedFunctionNArguments* args) {
+    const auto* self = static_cast<const Surface*>(args->geometryUserPtr);
+    const auto* ctx = reinterpret_cast<const RayContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        Vec3 o, d;
+        double tMin, tMax;
+        laneRay(args->ray, args->N, i, ctx, o, d, tMin, tMax);
+        double t;
+        if (self->intersectPrimitive(args->primID, self->primitiveSpace().toIndex(o),
+                                     self->primitiveSpace().directionToIndex(d), tMin, tMax, t))
+            RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+    }
+}
+
+// A user geometry of `count` primitives whose callbacks call `self`.
+template <typename Surface>
+RTCGeometry create(RTCDevice device, const Surface* self, std::size_t count) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(count));
+    rtcSetGeometryUserData(g, const_cast<Surface*>(self));
+    rtcSetGeometryBoundsFunction(g, &bounds<Surface>, nullptr);
+    rtcSetGeometryIntersectFunction(g, &intersect<Surface>);
+    rtcSetGeometryOccludedFunction(g, &occluded<Surface>);
+    return g;
+}
+
+}  // namespace lobe::user_geometry
