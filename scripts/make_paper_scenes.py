@@ -110,7 +110,11 @@ def scene(number, group, combo, zoom, before=False):
     objects = [{
         "name": "skull", "kind": "isosurface",
         "source": {"path": "../../cthead/cthead.nhdr", "divide_by": 3272, "background": 100},
-        "iso": 0.5, "method": "exact", "opacity": SKULL_OPACITY, "brdf": brdf(skull), "kd": 0.2,
+        # The close-ups use the level set: it halves the slice terraces that otherwise are the
+        # strongest texture over the density maps, and the thin bone it loses is in the face,
+        # outside the close-up (docs/performance.md, "The skull without terraces").
+        "iso": 0.5, "method": "levelset" if zoom and not before else "exact",
+        "opacity": SKULL_OPACITY, "brdf": brdf(skull), "kd": 0.2,
         "tangent_axis": [0, 0, 1]}, {
         "name": "cortex", "kind": "volume",
         "source": {"path": "../../brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
