@@ -7,12 +7,34 @@
 // versions from 222 (OpenVDB 2.0, 2013) on; older files are left to OpenVDB.
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <streambuf>
 #include <string>
+#include <vector>
 
 namespace lobe::detail {
 
-// Throws lobe::Error naming PATH and the field when a size field exceeds what the file holds.
-// OpenVDB must be initialised (the registered metadata types give their sizes).
-void checkVdbSizeFields(const std::string& path);
+// Where the walk found each grid: its descriptor's first byte and the end of its data.
+struct VdbGridEntry {
+    std::string name;  // as stored (OpenVDB may append a "[n]" suffix to repeated names)
+    std::string type;  // e.g. Tree_float_5_4_3
+    std::uint64_t descriptorAt = 0, end = 0;
+};
+struct VdbLayout {
+    std::uint64_t gridCountAt = 0;     // offset of the grid count (after the file metadata)
+    std::vector<VdbGridEntry> grids;   // without grid offsets (a stream): the first grid only
+};
+
+// Throws lobe::Error naming PATH and the field when a size field exceeds what the file holds
+// (or the file is no .vdb, or of a format version OpenVDB 2.0 … this one did not write);
+// returns the layout. OpenVDB must be initialised (the registered metadata types give sizes).
+VdbLayout checkVdbSizeFields(const std::string& path);
+
+// The file as OpenVDB should read it to get one grid: its header and metadata, a grid count of
+// 1, and that grid's descriptor and data — so no byte the walk did not check is read as a
+// descriptor. Reads past the end fail (give the istream exceptions to stop OpenVDB there).
+std::unique_ptr<std::streambuf> oneGridOf(const std::string& path, const VdbLayout& layout,
+                                          const VdbGridEntry& grid);
 
 }  // namespace lobe::detail

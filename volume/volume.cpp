@@ -9,6 +9,7 @@
 #include "volume/volume_file.h"
 #include "volume/volume_summary.h"
 
+#include <openvdb/io/GridDescriptor.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
@@ -152,34 +153,38 @@ Volume loadNrrd(const std::string& path, const LoadOptions& options) {
 
 Volume loadVdb(const std::string& path, const LoadOptions& options) {
     initializeOpenVdb();
-    detail::checkVdbSizeFields(path);
+    const detail::VdbLayout layout = detail::checkVdbSizeFields(path);
     openvdb::GridBase::Ptr base;
     try {
-        openvdb::io::File file(path);
-        file.open(/*delayLoad=*/false);  // read everything now, no delayed-load metadata
-        if (!options.gridName.empty()) {
-            if (!file.hasGrid(options.gridName)) {
-                std::string names;
-                for (auto it = file.beginName(); it != file.endName(); ++it)
-                    names += (names.empty() ? "" : ", ") + it.gridName();
-                file.close();
-                throw Error(path + ": no grid named '" + options.gridName + "' (the file has: " +
-                            (names.empty() ? "none" : names) + ")");
-            }
-            base = file.readGrid(options.gridName);
-        } else {
-            const openvdb::GridPtrVecPtr grids = file.getGrids();
-            for (const auto& g : *grids)
-                if (g && g->isType<openvdb::FloatGrid>()) {
-                    base = g;
-                    break;
-                }
-            if (!base) {
-                file.close();
-                throw Error(path + ": the file holds no float grid (Lobe volumes are float grids)");
-            }
+        // The grid to read, chosen from the walk's list: the one named, or the first float grid.
+        const detail::VdbGridEntry* chosen = nullptr;
+        std::string names;
+        for (const detail::VdbGridEntry& g : layout.grids) {
+            const std::string name = openvdb::io::GridDescriptor::stripSuffix(g.name);
+            names += (names.empty() ? "" : ", ") + name;
+            const bool isFloat = g.type.rfind(openvdb::FloatGrid::gridType(), 0) == 0;
+            if (!chosen && (options.gridName.empty() ? isFloat : name == options.gridName)) chosen = &g;
         }
-        file.close();
+        if (!chosen && !options.gridName.empty())
+            throw Error(path + ": no grid named '" + options.gridName + "' (the file has: " +
+                        (names.empty() ? "none" : names) + ")");
+        if (!chosen)
+            throw Error(path + ": the file holds no float grid (Lobe volumes are float grids)");
+        // Only that grid, through a stream that throws at the end of its data: OpenVDB's
+        // topology reader keeps allocating nodes after a read fails (a damaged child count or
+        // mask in a few hundred bytes asked for gigabytes), so the first read past the end must
+        // stop it; and no byte the size walk did not check is read as a grid descriptor.
+        const std::unique_ptr<std::streambuf> buffer = detail::oneGridOf(path, layout, *chosen);
+        std::istream in(buffer.get());
+        in.exceptions(std::ios::failbit | std::ios::badbit);
+        openvdb::io::Stream stream(in, /*delayLoad=*/false);
+        const openvdb::GridPtrVecPtr grids = stream.getGrids();
+        if (!grids || grids->empty() || !grids->front())
+            throw Error(path + ": cannot read the OpenVDB file (no grid in it)");
+        base = grids->front();
+    } catch (const std::ios_base::failure&) {
+        throw Error(path + ": cannot read the OpenVDB file (it ends before the data its fields "
+                           "announce: the file is damaged or truncated)");
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": cannot read the OpenVDB file (" + e.what() + ")");
     } catch (const std::bad_alloc&) {

@@ -663,6 +663,26 @@ TEST(VolumeErrors, VdbSizeFieldsBeyondTheFileAreRefusedUpFront) {
     const std::string badName = (tempDir() / "bad_name.vdb").string();
     std::ofstream(badName, std::ios::binary) << b;
     expectError([&] { loadVdb(badName); }, {badName, "grid 1 name", "damaged"});
+
+    // Format versions: before OpenVDB 2.0 refused by name, beyond this OpenVDB's too (it only
+    // warned, then read garbage); and a file cut short ends in one error, not a read that goes
+    // on allocating (the topology reader does not stop at the end of the file by itself).
+    const auto withVersion = [&](const std::string& name, std::uint32_t version) {
+        std::string v = bytes;
+        std::memcpy(&v[8], &version, 4);
+        const std::string path = (tempDir() / name).string();
+        std::ofstream(path, std::ios::binary) << v;
+        return path;
+    };
+    const std::string old = withVersion("old.vdb", 213);
+    expectError([&] { loadVdb(old); }, {old, "version 213", "OpenVDB 2.0"});
+    const std::string future = withVersion("future.vdb", 5964000);
+    expectError([&] { loadVdb(future); }, {future, "version 5964000", "newer"});
+    const std::string cut = (tempDir() / "cut.vdb").string();
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() * 3 / 4);
+    expectError([&] { loadVdb(cut); }, {cut, "cannot read the OpenVDB file"});
+    const std::string notVdb = writeFile("zeros.vdb", Bytes(200, 0));
+    expectError([&] { loadVdb(notVdb); }, {notVdb, "no OpenVDB magic number"});
 }
 
 TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
