@@ -36,11 +36,11 @@ std::string BrdfCandidate::label() const {
 std::vector<BrdfCandidate> brdfCandidates(bool tune) {
     std::vector<BrdfCandidate> out;
     if (!tune) {
-        for (const std::string& m : specularModelNames()) out.push_back({m, {}});
+        for (const std::string& m : specularModelNames()) out.push_back({m, {}, std::nullopt, {}});
         return out;
     }
     for (const ModelSetting& s : propertySettings())
-        if (s.model != "lambert") out.push_back({s.model, s.settings});
+        if (s.model != "lambert") out.push_back({s.model, s.settings, std::nullopt, {}});
     return out;
 }
 
