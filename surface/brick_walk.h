@@ -212,6 +212,18 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
     return false;
 }
 
+// The cell of the brick at `origin` that holds index point u, clamped into the brick (a hit in
+// the overlap just outside it uses the boundary cell's interpolant).
+inline openvdb::Coord cellInBrick(const openvdb::Coord& origin, const Vec3& u) {
+    openvdb::Coord cell;
+    for (int a = 0; a < 3; ++a) {
+        const double f = std::floor(u[a]);
+        const double lo = origin[a], hi = origin[a] + BrickCells::kCells - 1;
+        cell[a] = static_cast<int>(std::min(hi, std::max(lo, std::isfinite(f) ? f : lo)));
+    }
+    return cell;
+}
+
 // World AABB of a brick's 8 index-space corners (widened by 1e-3 voxel), padded by a relative
 // margin and rounded outwards to float so float traversal never culls a grazing ray.
 template <typename Map>

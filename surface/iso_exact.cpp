@@ -160,19 +160,8 @@ void IsoExactSurface::cellCorners(unsigned brick, const openvdb::Coord& cell, do
     c[7] = v[base + sz + sy + 1];
 }
 
-openvdb::Coord IsoExactSurface::clampCell(unsigned brick, const Vec3& u) const {
-    const openvdb::Coord& o = origins_[brick];
-    openvdb::Coord cell;
-    for (int a = 0; a < 3; ++a) {
-        const double f = std::floor(u[a]);
-        const double lo = o[a], hi = o[a] + kBrickCells - 1;
-        cell[a] = static_cast<int>(std::min(hi, std::max(lo, std::isfinite(f) ? f : lo)));
-    }
-    return cell;
-}
-
 Vec3 IsoExactSurface::worldGradient(unsigned brick, const Vec3& u) const {
-    const openvdb::Coord cell = clampCell(brick, u);
+    const openvdb::Coord cell = cellInBrick(origins_[brick], u);
     double c[8];
     cellCorners(brick, cell, c);
     const Vec3 local(u.x - cell.x(), u.y - cell.y(), u.z - cell.z());
@@ -198,14 +187,9 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
 }
 
 SurfaceHit IsoExactSurface::shade(const Ray& ray, double t, unsigned primId) const {
-    SurfaceHit hit;
-    hit.t = t;
-    hit.position = ray.at(t);
-    hit.primId = primId;
-    const Vec3 u = map_.toIndex(hit.position);
-    const Vec3 n = normalized(-worldGradient(primId, u));
-    hit.normal = (n.length2() > 0.0 && isFinite(n)) ? n : normalized(-ray.d);
-    return hit;
+    return user_geometry::shadeByGradient(ray, t, primId, [&](const Vec3& x) {
+        return worldGradient(primId, map_.toIndex(x));
+    });
 }
 
 RTCGeometry IsoExactSurface::createGeometry(RTCDevice device) const {

@@ -87,7 +87,6 @@ public:
 
 private:
     void cellCorners(unsigned brick, const openvdb::Coord& cell, double c[8]) const;
-    openvdb::Coord clampCell(unsigned brick, const Vec3& u) const;
 
     double iso_ = 0.0;
     AffineMap map_;

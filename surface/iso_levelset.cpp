@@ -161,13 +161,7 @@ bool LevelSetSurface::intersectPrimitive(unsigned block, const Vec3& o, const Ve
 }
 
 Vec3 LevelSetSurface::worldGradient(unsigned block, const Vec3& u) const {
-    const openvdb::Coord& origin = origins_[block];
-    openvdb::Coord cell;
-    for (int a = 0; a < 3; ++a) {
-        const double f = std::floor(u[a]);
-        const double lo = origin[a], hi = origin[a] + kCells - 1;
-        cell[a] = static_cast<int>(std::min(hi, std::max(lo, std::isfinite(f) ? f : lo)));
-    }
+    const openvdb::Coord cell = cellInBrick(origins_[block], u);
     const Accessor acc(phi_->tree());
     double c[8];
     corners(acc, cell, c);
@@ -176,13 +170,9 @@ Vec3 LevelSetSurface::worldGradient(unsigned block, const Vec3& u) const {
 }
 
 SurfaceHit LevelSetSurface::shade(const Ray& ray, double t, unsigned primId) const {
-    SurfaceHit hit;
-    hit.t = t;
-    hit.position = ray.at(t);
-    hit.primId = primId;
-    const Vec3 n = normalized(-worldGradient(primId, map_.toIndex(hit.position)));
-    hit.normal = (n.length2() > 0.0 && isFinite(n)) ? n : normalized(-ray.d);
-    return hit;
+    return user_geometry::shadeByGradient(ray, t, primId, [&](const Vec3& x) {
+        return worldGradient(primId, map_.toIndex(x));
+    });
 }
 
 RTCGeometry LevelSetSurface::createGeometry(RTCDevice device) const {

@@ -162,13 +162,8 @@ Vec3 IsoMeshSurface::worldGradient(const Vec3& world) const {
 }
 
 SurfaceHit IsoMeshSurface::shade(const Ray& ray, double t, unsigned primId) const {
-    SurfaceHit hit;
-    hit.t = t;
-    hit.position = ray.at(t);
-    hit.primId = primId;
-    const Vec3 n = isFinite(hit.position) ? normalized(-worldGradient(hit.position)) : Vec3(0.0);
-    hit.normal = (n.length2() > 0.0 && isFinite(n)) ? n : normalized(-ray.d);
-    return hit;
+    return user_geometry::shadeByGradient(ray, t, primId,
+                                          [&](const Vec3& x) { return worldGradient(x); });
 }
 
 }  // namespace lobe

@@ -98,6 +98,20 @@ void occluded(const RTCOccludedFunctionNArguments* args) {
     }
 }
 
+// SurfaceGeometry::shade for the surfaces whose normal is −∇f (surface_scene.h, "Normal
+// convention"): gradientAt(world position) gives the world-space ∇f; a zero or non-finite
+// gradient (a saddle on the surface) falls back to −ray direction.
+template <typename GradientAt>
+SurfaceHit shadeByGradient(const Ray& ray, double t, unsigned primId, const GradientAt& gradientAt) {
+    SurfaceHit hit;
+    hit.t = t;
+    hit.position = ray.at(t);
+    hit.primId = primId;
+    const Vec3 n = isFinite(hit.position) ? normalized(-gradientAt(hit.position)) : Vec3(0.0);
+    hit.normal = (n.length2() > 0.0 && isFinite(n)) ? n : normalized(-ray.d);
+    return hit;
+}
+
 // A user geometry of `count` primitives whose callbacks call `self`.
 template <typename Surface>
 RTCGeometry create(RTCDevice device, const Surface* self, std::size_t count) {

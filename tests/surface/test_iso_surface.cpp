@@ -71,19 +71,21 @@ struct RampCase {
     double linear[3][3];
 };
 
+// Identity, anisotropic, rotated with a flip, sheared: the maps the ramp tests run under.
+const RampCase kRampCases[] = {
+    {"identity", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+    {"spacing 1,1,2", {{1, 0, 0}, {0, 1, 0}, {0, 0, 2}}},
+    {"rotated+flipped", {{0, -1, 0}, {1, 0, 0}, {0, 0, -1.5}}},
+    {"sheared", {{1, 0.25, 0}, {0, 0.75, 0.25}, {0.125, 0, 2}}},
+};
+
 TEST(IsoExact, LinearRampHitsThePlaneExactlyUnderAffineTransforms) {
-    const RampCase cases[] = {
-        {"identity", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
-        {"spacing 1,1,2", {{1, 0, 0}, {0, 1, 0}, {0, 0, 2}}},
-        {"rotated+flipped", {{0, -1, 0}, {1, 0, 0}, {0, 0, -1.5}}},
-        {"sheared", {{1, 0.25, 0}, {0, 0.75, 0.25}, {0.125, 0, 2}}},
-    };
     // Dyadic slopes, matrices and origin: every voxel value is exact in float, so the stored
     // interpolant is exactly the ramp and its gradient exactly gw (up to double rounding).
     const Vec3 gw = Vec3(0.25, -0.5, 0.75);
     const double b = 1.25;
     const int dims[3] = {16, 16, 16};
-    for (const RampCase& rc : cases) {
+    for (const RampCase& rc : kRampCases) {
         SCOPED_TRACE(rc.name);
         const Vec3 origin(3.0, -2.0, 5.0);
         auto grid = makeGrid(dims, rc.linear, origin, -1000.0f,
@@ -469,16 +471,10 @@ openvdb::FloatGrid::Ptr asLevelSet(openvdb::FloatGrid::Ptr g) {
 }
 
 TEST(LevelSet, PlaneUnderAffineTransformsIsHitExactly) {
-    const RampCase cases[] = {
-        {"identity", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
-        {"spacing 1,1,2", {{1, 0, 0}, {0, 1, 0}, {0, 0, 2}}},
-        {"rotated+flipped", {{0, -1, 0}, {1, 0, 0}, {0, 0, -1.5}}},
-        {"sheared", {{1, 0.25, 0}, {0, 0.75, 0.25}, {0.125, 0, 2}}},
-    };
     // φ(x) = gw·x + b − level: a plane, exact under trilinear interpolation (dyadic values).
     const Vec3 gw = Vec3(0.25, -0.5, 0.75);
     const int dims[3] = {16, 16, 16};
-    for (const RampCase& rc : cases) {
+    for (const RampCase& rc : kRampCases) {
         SCOPED_TRACE(rc.name);
         const Vec3 origin(3.0, -2.0, 5.0);
         auto probe = makeGrid(dims, rc.linear, origin, 0.0f, [](const Vec3&) { return 0.0; });
