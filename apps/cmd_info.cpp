@@ -1,11 +1,14 @@
 // `lobe info FILE [layout options]`: loads a volume as the renderer would (volume/volume.h) and
-// prints its dimensions, spacing, world bounding box, value range, mean, active voxels, the
-// grid's memory and the load time. Also home of the volume options `lobe convert` shares.
+// prints its dimensions, spacing, world bounding box, value range, mean, percentiles (1, 5, 50,
+// 95, 99 %), active voxels, the grid's memory and the load time; --blur-fwhm blurs first (as a
+// scene's source does), --histogram / --bins N adds a histogram. Also home of the volume options `lobe convert` shares.
 #include "apps/commands.h"
 #include "volume/volume_summary.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -43,28 +46,68 @@ void printVolumeSummary(const VolumeSummary& s) {
     std::printf("file values     %.9g .. %.9g\n", s.originalMin, s.originalMax);
     std::printf("value scale     %.9g  (stored = file value x scale)\n", s.valueScale);
     std::printf("stored values   %.9g .. %.9g, mean %.6g\n", s.min, s.max, s.mean);
+    if (s.blurFwhm > 0.0) std::printf("blurred         Gaussian, FWHM %g (world units)\n", s.blurFwhm);
+    const auto percentiles = [&](const char* label, const std::array<double, 5>& p) {
+        std::printf("%s", label);
+        for (std::size_t i = 0; i < p.size(); ++i)
+            std::printf("%s%g %%: %.6g", i ? ", " : "", VolumeSummary::kPercents[i], p[i]);
+        std::printf("\n");
+    };
+    percentiles("percentiles     ", s.percentilesAll);
+    if (s.activeVoxels > 0) percentiles("  active only   ", s.percentilesActive);
     std::printf("background      values <= %g (file units) inactive\n", s.background);
     std::printf("active voxels   %lld  (%.2f %%)\n", static_cast<long long>(s.activeVoxels),
                 s.voxels > 0 ? 100.0 * double(s.activeVoxels) / double(s.voxels) : 0.0);
     std::printf("memory          %.2f MB  (dense float would be %.2f MB)\n",
                 double(s.memoryBytes) / 1e6, double(s.voxels) * 4.0 / 1e6);
     std::printf("load time       %.3f s\n", s.loadSeconds);
+    if (!s.histogram.counts.empty()) {
+        // One row per bin: its value range, its voxels and a bar scaled to the fullest bin.
+        std::int64_t most = 1, total = 0;
+        for (std::int64_t c : s.histogram.counts) {
+            most = std::max(most, c);
+            total += c;
+        }
+        const std::size_t n = s.histogram.counts.size();
+        std::printf("histogram       %zu bins over every voxel of the box\n", n);
+        for (std::size_t b = 0; b < n; ++b) {
+            const double lo = s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b) / double(n);
+            const double hi = s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b + 1) / double(n);
+            const std::int64_t c = s.histogram.counts[b];
+            std::printf("  %12.6g .. %-12.6g %12lld  %6.2f %%  %s\n", lo, hi, static_cast<long long>(c),
+                        total ? 100.0 * double(c) / double(total) : 0.0,
+                        std::string(std::size_t(40.0 * double(c) / double(most) + 0.5), '#').c_str());
+        }
+    }
 }
 
 void registerInfoCommand(CLI::App& app) {
     struct Options {
         std::string file;
         VolumeOptionText text;
+        double blurFwhm = 0.0;
+        int bins = 0;
+        bool histogram = false;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
-        "info", "Print a volume's dimensions, spacing, world box, value range, mean, active "
-                "voxels and memory (.nii, .nii.gz, .nhdr, .vdb; raw files with --dims --type ...)");
+        "info", "Print a volume's dimensions, spacing, world box, value range, mean, percentiles, "
+                "active voxels and memory, optionally a histogram (.nii, .nii.gz, .nhdr, .vdb; raw "
+                "files with --dims --type ...)");
     cmd->add_option("FILE", options->file, "the volume file")->required();
     addVolumeOptions(*cmd, options->text);
     cmd->add_option("--name", options->text.gridName, ".vdb files: the grid to read");
+    cmd->add_option("--blur-fwhm", options->blurFwhm,
+                    "blur first, as a scene's source.blur_fwhm_mm does (world units)")
+        ->check(CLI::Range(0.0, 100.0));
+    cmd->add_flag("--histogram", options->histogram,
+                  "also print a histogram of the values (every voxel of the box)");
+    cmd->add_option("--bins", options->bins, "the histogram's bins (default 32; implies --histogram)")
+        ->check(CLI::Range(1, 10000));
     cmd->callback([options] {
-        printVolumeSummary(summarizeVolume(options->file, parseLoadOptions(options->text)));
+        const int bins = options->bins > 0 ? options->bins : (options->histogram ? 32 : 0);
+        printVolumeSummary(summarizeVolume(options->file, parseLoadOptions(options->text),
+                                           options->blurFwhm, bins));
     });
 }
 

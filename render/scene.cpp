@@ -40,7 +40,7 @@ TangentAxes worldAxes(const ObjectSpec& spec) {
 // Everything a loaded volume depends on.
 std::string sourceKey(const VolumeSourceSpec& s) {
     char numbers[256];
-    std::snprintf(numbers, sizeof numbers, "|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", s.divideBy,
+    std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", int(s.divideByMax), s.divideBy,
                   s.background, s.blurFwhmMm, s.spacing[0], s.spacing[1], s.spacing[2]);
     std::string key = s.path + numbers + "|" + s.type + "|" + s.endian;
     if (s.dims)
@@ -58,6 +58,7 @@ Volume loadSource(const VolumeSourceSpec& s) {
         options.layout.spacing = s.spacing;
     }
     if (s.divideBy != 1.0) options.normalize = s.divideBy;
+    options.normalizeByMax = s.divideByMax;
     options.background = s.background;
     Volume v = loadVolume(s.path, options);
     if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);

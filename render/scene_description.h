@@ -24,6 +24,7 @@ struct VolumeSourceSpec {
     std::string endian = "little";               // raw files only
     std::array<double, 3> spacing{1.0, 1.0, 1.0};  // raw files only
     double divideBy = 1.0;                       // value ↦ value / divideBy (CThead: 3272)
+    bool divideByMax = false;                    // "divide_by": "max": by the data's maximum
     double background = 0.0;                     // file units: voxels ≤ this are inactive
     double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
 };

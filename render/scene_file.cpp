@@ -168,7 +168,10 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
             s.spacing[i] = v[i];
         }
     }
-    s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
+    if (r.has("divide_by") && r.raw("divide_by").is_string())
+        s.divideByMax = r.string("divide_by", "max", {"max"}) == "max";
+    else
+        s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
     s.blurFwhmMm = r.number("blur_fwhm_mm", 0.0, 0.0, 100.0);
     s.background = r.number("background", 0.0, -1e12, 1e12);
     r.finish();

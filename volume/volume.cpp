@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "volume/gaussian_blur.h"
 #include "volume/vdb_size_check.h"
 #include "volume/volume_file.h"
 #include "volume/volume_summary.h"
@@ -380,6 +381,51 @@ VolumeStats computeStats(const Volume& volume) {
     return s;
 }
 
+ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins, bool activeOnly) {
+    ValueHistogram h;
+    h.lo = lo;
+    h.hi = hi;
+    h.counts.assign(std::size_t(std::max(1, bins)), 0);
+    const auto binOf = [&](double v) {
+        if (!(hi > lo)) return std::size_t(0);
+        const double f = (v - lo) / (hi - lo) * double(h.counts.size());
+        return std::size_t(std::min(double(h.counts.size() - 1), std::max(0.0, std::floor(f))));
+    };
+    const openvdb::FloatGrid& grid = *volume.grid;
+    const std::array<int, 3>& o = volume.indexOrigin;
+    const openvdb::CoordBBox box(openvdb::Coord(o[0], o[1], o[2]),
+                                 openvdb::Coord(o[0] + volume.dims[0] - 1, o[1] + volume.dims[1] - 1,
+                                                o[2] + volume.dims[2] - 1));
+    std::int64_t covered = 0;
+    for (auto it = grid.tree().cbeginValueAll(); it; ++it) {
+        if (activeOnly && !it.isValueOn()) continue;
+        openvdb::CoordBBox b;
+        it.getBoundingBox(b);
+        b.intersect(box);
+        if (b.empty()) continue;
+        const std::int64_t n = std::int64_t(b.volume());
+        h.counts[binOf(*it)] += n;
+        covered += n;
+    }
+    const std::int64_t voxels = std::int64_t(volume.dims[0]) * volume.dims[1] * volume.dims[2];
+    if (!activeOnly && covered < voxels) h.counts[binOf(grid.background())] += voxels - covered;
+    return h;
+}
+
+double ValueHistogram::percentile(double p) const {
+    std::int64_t total = 0;
+    for (std::int64_t c : counts) total += c;
+    if (total == 0) return std::nan("");
+    // Nearest rank: the ceil(p/100 · N)-th smallest value (at least the first).
+    const std::int64_t rank = std::max<std::int64_t>(1, std::int64_t(std::ceil(p / 100.0 * double(total))));
+    std::int64_t seen = 0;
+    for (std::size_t b = 0; b < counts.size(); ++b) {
+        seen += counts[b];
+        if (seen >= rank) return lo + (hi - lo) * double(b) / double(counts.size());
+    }
+    return hi;
+}
+
 namespace {
 
 VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
@@ -408,18 +454,39 @@ VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
     out.voxels = s.voxels;
     out.activeVoxels = s.activeVoxels;
     out.memoryBytes = s.memoryBytes;
+    // 65 536 bins: percentiles to 1.5e-5 of the value range.
+    constexpr int kPercentileBins = 65536;
+    const ValueHistogram all = valueHistogram(volume, s.min, s.max, kPercentileBins, false);
+    const ValueHistogram active = valueHistogram(volume, s.min, s.max, kPercentileBins, true);
+    for (std::size_t i = 0; i < VolumeSummary::kPercents.size(); ++i) {
+        out.percentilesAll[i] = all.percentile(VolumeSummary::kPercents[i]);
+        out.percentilesActive[i] = active.percentile(VolumeSummary::kPercents[i]);
+    }
     return out;
 }
 
 }  // namespace
 
-VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options) {
+VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options,
+                              double blurFwhm, int histogramBins) {
+    if (!(blurFwhm >= 0.0) || !std::isfinite(blurFwhm))
+        throw Error(path + ": the blur FWHM must be finite and not negative");
+    if (histogramBins < 0 || histogramBins > 100000)
+        throw Error(path + ": the histogram's bins must be 1 … 100000");
     const auto start = std::chrono::steady_clock::now();
-    const Volume volume = loadVolume(path, options);
+    Volume volume = loadVolume(path, options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (blurFwhm > 0.0) gaussianBlurFwhm(volume, blurFwhm);
     VolumeSummary out = summaryOf(volume, path);
     out.loadSeconds = seconds;
+    out.blurFwhm = blurFwhm;
+    if (histogramBins > 0) {
+        const ValueHistogram h = valueHistogram(volume, out.min, out.max, histogramBins, false);
+        out.histogram.lo = h.lo;
+        out.histogram.hi = h.hi;
+        out.histogram.counts = h.counts;
+    }
     return out;
 }
 

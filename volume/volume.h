@@ -36,6 +36,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -71,5 +72,17 @@ struct VolumeStats {
     openvdb::BBoxd worldBox;       // world box of the voxel lattice grown by half a voxel
 };
 VolumeStats computeStats(const Volume& volume);
+
+// A histogram of the stored values: `bins` equal bins over [lo, hi], counting every voxel of the
+// box (what the tree stores, each tile by its voxels, and the background for the rest) or only
+// the active ones. Time in proportion to the stored data, like computeStats.
+struct ValueHistogram {
+    double lo = 0.0, hi = 0.0;
+    std::vector<std::int64_t> counts;
+    // Nearest rank: the smallest value v with at least p % of the counted voxels ≤ v, to within
+    // one bin, (hi − lo)/bins (the lower edge of the bin reaching that rank; hi for p = 100).
+    double percentile(double p) const;
+};
+ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins, bool activeOnly);
 
 }  // namespace lobe

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -23,10 +24,21 @@ struct VolumeSummary {
     double min = 0.0, max = 0.0, mean = 0.0;  // stored values over all voxels
     std::int64_t voxels = 0, activeVoxels = 0, memoryBytes = 0;
     double loadSeconds = 0.0;
+    double blurFwhm = 0.0;  // world units; 0: no blur
+    // Percentiles 1, 5, 50, 95, 99 % of the stored values over every voxel of the box and over
+    // the active voxels (ValueHistogram::percentile).
+    static constexpr std::array<double, 5> kPercents{1, 5, 50, 95, 99};
+    std::array<double, 5> percentilesAll{}, percentilesActive{};
+    struct Histogram {
+        double lo = 0.0, hi = 0.0;            // equal bins over [lo, hi]
+        std::vector<std::int64_t> counts;     // voxels per bin, every voxel of the box
+    } histogram;                               // empty unless asked for
 };
 
-// Loads the file (loadVolume) and measures it.
-VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options);
+// Loads the file (loadVolume), blurs it by blurFwhm (world units, as a scene's
+// source.blur_fwhm_mm; 0: not at all) and measures it; with histogramBins > 0 also a histogram.
+VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options,
+                              double blurFwhm = 0.0, int histogramBins = 0);
 
 // Loads `in` and writes it as a .vdb grid to `out` (temporary name + rename: on any error
 // nothing is written). Returns the summary of what was written.

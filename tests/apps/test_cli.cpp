@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -549,6 +551,18 @@ TEST(Cli, ConvertThenInfoRoundTrips) {
     EXPECT_NE(r.out.find("grey"), std::string::npos);
     EXPECT_NE(r.out.find("338634"), std::string::npos);
     EXPECT_NE(r.out.find("at world (90, -126, -72)"), std::string::npos);
+    EXPECT_NE(r.out.find("percentiles     1 %:"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("histogram"), std::string::npos);
+
+    // --bins N: N rows after the histogram's header; --blur-fwhm blurs first; bad values fail.
+    r = lobe("info " + quote(vdb) + " --bins 8 --blur-fwhm 4");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("histogram       8 bins"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("FWHM 4"), std::string::npos) << r.out;
+    const std::string rows = r.out.substr(r.out.find("histogram"));
+    EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 9) << rows;
+    r = lobe("info " + quote(vdb) + " --bins 0");
+    EXPECT_NE(r.exitCode, 0);
 }
 
 }  // namespace

@@ -176,6 +176,19 @@ TEST(SceneFile, HighlightToneAndGreyBackdropKeys) {
     EXPECT_TRUE(t.backdrop.grey);
 }
 
+// "divide_by": a number or "max" (by the data's maximum); any other word is an error.
+TEST(SceneFile, DivideByNumberOrMax) {
+    std::string text = validScene();
+    text.replace(text.find(R"("source": {"path": "test_scene_file.cpp"})"), 41,
+                 R"("source": {"path": "test_scene_file.cpp", "divide_by": "max"})");
+    const SceneSpec m = parseScene(text, kBase, "scene.json");
+    EXPECT_TRUE(m.objects[0].source.divideByMax);
+    std::string word = text;
+    word.replace(word.find(R"("max")"), 5, R"("most")");
+    EXPECT_NE(errorOf(word).find("divide_by"), std::string::npos) << errorOf(word);
+    EXPECT_FALSE(parseScene(validScene(), kBase, "scene.json").objects[0].source.divideByMax);
+}
+
 // The level-set method's keys: read with "method": "levelset", unknown with another method.
 TEST(SceneFile, LevelSetKeys) {
     const SceneSpec d = parseScene(validScene(R"(, "method": "levelset")"), kBase, "scene.json");

@@ -685,6 +685,40 @@ TEST(VolumeErrors, VdbSizeFieldsBeyondTheFileAreRefusedUpFront) {
     expectError([&] { loadVdb(notVdb); }, {notVdb, "no OpenVDB magic number"});
 }
 
+// `lobe info`'s percentiles (nearest rank, to within one of 65 536 bins) and histogram on 100
+// voxels holding 0 … 99 in shuffled order: the k-th smallest value is k − 1.
+TEST(VolumeSummary, PercentilesHistogramAndBlur) {
+    Bytes b(100);
+    for (int i = 0; i < 100; ++i) b[std::size_t(i)] = std::uint8_t((i * 37) % 100);  // a permutation
+    const std::string path = writeFile("hundred.raw", b);
+    LoadOptions o;
+    o.hasLayout = true;
+    o.layout = layout(10, 10, 1, VoxelType::kUint8, Endian::kLittle);
+    const VolumeSummary s = summarizeVolume(path, o, 0.0, 10);
+    const double bin = 99.0 / 65536.0;
+    // Every voxel: ranks ceil(p N) = 1, 5, 50, 95, 99 → values 0, 4, 49, 94, 98.
+    const double all[5] = {0, 4, 49, 94, 98};
+    // Active voxels (the 0 is at the background threshold, inactive): 99 values 1 … 99, ranks
+    // 1, 5, 50, 95, 99 → 1, 5, 50, 95, 99.
+    const double active[5] = {1, 5, 50, 95, 99};
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_LE(s.percentilesAll[i], all[i]);
+        EXPECT_GT(s.percentilesAll[i], all[i] - bin - 1e-9);
+        EXPECT_LE(s.percentilesActive[i], active[i]);
+        EXPECT_GT(s.percentilesActive[i], active[i] - bin - 1e-9);
+    }
+    ASSERT_EQ(s.histogram.counts.size(), 10u);
+    for (std::int64_t c : s.histogram.counts) EXPECT_EQ(c, 10);  // bins of 9.9 over 0 … 99
+    EXPECT_EQ(s.histogram.lo, 0.0);
+    EXPECT_EQ(s.histogram.hi, 99.0);
+    // Blurred first (as a scene's source): the extremes move in, the values stay finite.
+    const VolumeSummary blurred = summarizeVolume(path, o, 2.0, 0);
+    EXPECT_LT(blurred.max, 99.0);
+    EXPECT_TRUE(std::isfinite(blurred.percentilesAll[2]));
+    EXPECT_TRUE(blurred.histogram.counts.empty());
+    expectError([&] { summarizeVolume(path, o, -1.0, 0); }, {path, "blur"});
+}
+
 TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
     const Volume v = loadRaw(writeFile("w.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
     const fs::path dir = tempDir() / "no_such_dir";
