@@ -239,6 +239,13 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
         volume.dims[a] = dims[a];
         volume.indexOrigin[a] = origin[a];
     }
+    // Voxel counts are int64 and exact in double up to 2^53: a box beyond that (2^30 a side is
+    // 2^90) is refused by its size, before any count overflows.
+    const double boxVoxels = double(dims[0]) * double(dims[1]) * double(dims[2]);
+    if (boxVoxels > 9007199254740992.0)
+        throw Error(path + ": grid '" + grid->getName() + "' spans " + std::to_string(dims[0]) +
+                    " x " + std::to_string(dims[1]) + " x " + std::to_string(dims[2]) +
+                    " voxels, more than 2^53 in all; Lobe's volumes hold at most that");
     // Lobe's own metadata, checked like any input: what would the volume hold otherwise?
     const auto finiteMeta = [&](const char* key, double& value) {
         if (readMeta<openvdb::DoubleMetadata>(*grid, key, value) && !std::isfinite(value))

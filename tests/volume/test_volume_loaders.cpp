@@ -605,6 +605,11 @@ TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
     const std::string huge =
         withMeta("dims.vdb", "lobe_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(2, 1, 2000000000)));
     expectError([&] { loadVdb(huge); }, {huge, "lobe_dims", "2^30"});
+    // Each side within 2^30 but the box beyond 2^53 voxels (a fuzz finding: the voxel count
+    // overflowed int64 in computeStats).
+    const std::string cube = withMeta("cube.vdb", "lobe_dims",
+                                      openvdb::Vec3IMetadata(openvdb::Vec3i(1 << 30, 1 << 30, 1 << 30)));
+    expectError([&] { loadVdb(cube); }, {cube, "more than 2^53"});
 }
 
 // A .vdb whose size fields claim more than the file holds is refused before OpenVDB builds a
