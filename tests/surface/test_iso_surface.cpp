@@ -79,6 +79,35 @@ const RampCase kRampCases[] = {
     {"sheared", {{1, 0.25, 0}, {0, 0.75, 0.25}, {0.125, 0, 2}}},
 };
 
+// Rays from random points of a 16³ lattice in random directions: every ray whose crossing of the
+// plane gw·x = c lies inside the stored lattice hits there (t to 1e-6) with the expected normal
+// (to 1e-9) on object 0; at least 500 such rays.
+void expectPlaneHits(const SurfaceScene& scene, const AffineMap& map, const Vec3& gw, double c,
+                     const Vec3& expectedNormal, std::uint64_t stream) {
+    Rng rng(42, stream);
+    int tested = 0;
+    for (int n = 0; n < 3000; ++n) {
+        const Vec3 oIdx(2 + 11 * rng.uniform(), 2 + 11 * rng.uniform(), 2 + 11 * rng.uniform());
+        Ray ray;
+        ray.o = map.toWorld(oIdx);
+        ray.d = randomUnit(rng);
+        const double tStar = (c - gw.dot(ray.o)) / gw.dot(ray.d);
+        if (!(tStar > 0.0)) continue;
+        const Vec3 hIdx = map.toIndex(ray.at(tStar));
+        if (hIdx.x < 1 || hIdx.y < 1 || hIdx.z < 1 || hIdx.x > 14 || hIdx.y > 14 || hIdx.z > 14)
+            continue;  // the ramp holds only inside the stored lattice
+        ++tested;
+        const auto hit = scene.intersect(ray);
+        ASSERT_TRUE(hit) << "ray " << n;
+        EXPECT_NEAR(hit->t, tStar, 1e-6) << "ray " << n;
+        EXPECT_NEAR(hit->normal.x, expectedNormal.x, 1e-9);
+        EXPECT_NEAR(hit->normal.y, expectedNormal.y, 1e-9);
+        EXPECT_NEAR(hit->normal.z, expectedNormal.z, 1e-9);
+        EXPECT_EQ(hit->objectId, 0);
+    }
+    EXPECT_GT(tested, 500);
+}
+
 TEST(IsoExact, LinearRampHitsThePlaneExactlyUnderAffineTransforms) {
     // Dyadic slopes, matrices and origin: every voxel value is exact in float, so the stored
     // interpolant is exactly the ramp and its gradient exactly gw (up to double rounding).
@@ -96,29 +125,8 @@ TEST(IsoExact, LinearRampHitsThePlaneExactlyUnderAffineTransforms) {
         auto surface = std::make_shared<IsoExactSurface>(*grid, iso, rc.name);
         SurfaceScene scene = sceneOf(surface);
         const Vec3 expectedNormal = -gw / gw.length();  // −∇f: out of the region f > iso
-        Rng rng(42, 1);
-        int tested = 0;
-        for (int n = 0; n < 3000; ++n) {
-            const Vec3 oIdx(2 + 11 * rng.uniform(), 2 + 11 * rng.uniform(), 2 + 11 * rng.uniform());
-            Ray ray;
-            ray.o = map.toWorld(oIdx);
-            ray.d = randomUnit(rng);
-            // Analytic: gw·(o + t d) + b = iso.
-            const double tStar = (iso - gw.dot(ray.o) - b) / gw.dot(ray.d);
-            if (!(tStar > 0.0)) continue;
-            const Vec3 hIdx = map.toIndex(ray.at(tStar));
-            if (hIdx.x < 1 || hIdx.y < 1 || hIdx.z < 1 || hIdx.x > 14 || hIdx.y > 14 || hIdx.z > 14)
-                continue;  // the ramp holds only inside the stored lattice
-            ++tested;
-            const auto hit = scene.intersect(ray);
-            ASSERT_TRUE(hit) << "ray " << n;
-            EXPECT_NEAR(hit->t, tStar, 1e-6) << "ray " << n;
-            EXPECT_NEAR(hit->normal.x, expectedNormal.x, 1e-9);
-            EXPECT_NEAR(hit->normal.y, expectedNormal.y, 1e-9);
-            EXPECT_NEAR(hit->normal.z, expectedNormal.z, 1e-9);
-            EXPECT_EQ(hit->objectId, 0);
-        }
-        EXPECT_GT(tested, 500);
+        // gw·x + b = iso.
+        expectPlaneHits(scene, map, gw, iso - b, expectedNormal, 1);
     }
 }
 
@@ -485,27 +493,7 @@ TEST(LevelSet, PlaneUnderAffineTransformsIsHitExactly) {
         auto surface = std::make_shared<LevelSetSurface>(phi, rc.name);
         SurfaceScene scene = sceneOf(surface);
         const Vec3 expectedNormal = gw / gw.length();  // ∇φ: out of the object (φ < 0)
-        Rng rng(42, 2);
-        int tested = 0;
-        for (int n = 0; n < 3000; ++n) {
-            const Vec3 oIdx(2 + 11 * rng.uniform(), 2 + 11 * rng.uniform(), 2 + 11 * rng.uniform());
-            Ray ray;
-            ray.o = map.toWorld(oIdx);
-            ray.d = randomUnit(rng);
-            const double tStar = (level - gw.dot(ray.o)) / gw.dot(ray.d);
-            if (!(tStar > 0.0)) continue;
-            const Vec3 hIdx = map.toIndex(ray.at(tStar));
-            if (hIdx.x < 1 || hIdx.y < 1 || hIdx.z < 1 || hIdx.x > 14 || hIdx.y > 14 || hIdx.z > 14)
-                continue;
-            ++tested;
-            const auto hit = scene.intersect(ray);
-            ASSERT_TRUE(hit) << "ray " << n;
-            EXPECT_NEAR(hit->t, tStar, 1e-6) << "ray " << n;
-            EXPECT_NEAR(hit->normal.x, expectedNormal.x, 1e-9);
-            EXPECT_NEAR(hit->normal.y, expectedNormal.y, 1e-9);
-            EXPECT_NEAR(hit->normal.z, expectedNormal.z, 1e-9);
-        }
-        EXPECT_GT(tested, 500);
+        expectPlaneHits(scene, map, gw, level, expectedNormal, 2);
     }
 }
 
