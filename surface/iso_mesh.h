@@ -38,7 +38,6 @@ public:
     const std::array<float, 6>& primitiveBounds(unsigned quad) const { return bounds_[quad]; }
     bool intersectPrimitive(unsigned quad, const Vec3& o, const Vec3& d, double tMin, double tMax,
                             double& t) const;
-    Vec3 worldGradient(unsigned /*quad*/, const Vec3& world) const { return worldGradient(world); }
 
     double iso() const { return iso_; }
     std::size_t vertexCount() const { return vertices_.size() / 3; }

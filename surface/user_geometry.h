@@ -5,7 +5,6 @@
 //   const std::array<float, 6>& primitiveBounds(unsigned prim) const;   // world AABB
 //   bool intersectPrimitive(unsigned prim, const Vec3& o, const Vec3& d, double tMin,
 //                           double tMax, double& t) const;   // the ray in primitive space
-//   Vec3 worldGradient(unsigned prim, const Vec3& u) const;  // world ∇f at u (primitive space)
 // (An affine map keeps the ray parameter t, so t is the same in both spaces.)
 // Single rays from SurfaceScene carry their double-precision ray in RayContext (surface_scene.h)
 // and get their double hit distance back through it.
@@ -64,11 +63,12 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
         const Vec3 oi = self->primitiveSpace().toIndex(o), di = self->primitiveSpace().directionToIndex(d);
         double t;
         if (!self->intersectPrimitive(args->primID, oi, di, tMin, tMax, t)) continue;
-        const Vec3 ng = -self->worldGradient(args->primID, oi + di * t);
+        // No geometric normal: nothing reads Embree's Ng (shade() computes the shading normal
+        // once, for the hit that wins), so none is computed for every candidate hit.
         RTCRayN_tfar(ray, args->N, i) = static_cast<float>(t);
-        RTCHitN_Ng_x(hit, args->N, i) = static_cast<float>(ng.x);
-        RTCHitN_Ng_y(hit, args->N, i) = static_cast<float>(ng.y);
-        RTCHitN_Ng_z(hit, args->N, i) = static_cast<float>(ng.z);
+        RTCHitN_Ng_x(hit, args->N, i) = 0.0f;
+        RTCHitN_Ng_y(hit, args->N, i) = 0.0f;
+        RTCHitN_Ng_z(hit, args->N, i) = 0.0f;
         RTCHitN_u(hit, args->N, i) = 0.0f;
         RTCHitN_v(hit, args->N, i) = 0.0f;
         RTCHitN_primID(hit, args->N, i) = args->primID;
