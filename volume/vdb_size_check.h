@@ -18,8 +18,11 @@ namespace lobe::detail {
 // Where the walk found each grid: its descriptor's first byte and the end of its data.
 struct VdbGridEntry {
     std::string name;  // as stored (OpenVDB may append a "[n]" suffix to repeated names)
-    std::string type;  // e.g. Tree_float_5_4_3
+    std::string type;  // e.g. Tree_float_5_4_3, with "_HalfFloat" when saved as half floats
     std::uint64_t descriptorAt = 0, end = 0;
+    std::uint64_t transformAt = 0;  // the transform's map type name; the tree follows the map
+    std::uint32_t compression = 0;  // io::COMPRESS_* flags of this grid's values
+    bool instance = false;          // an instance of another grid: no tree of its own
 };
 struct VdbLayout {
     std::uint64_t gridCountAt = 0;     // offset of the grid count (after the file metadata)
@@ -30,6 +33,15 @@ struct VdbLayout {
 // (or the file is no .vdb, or of a format version OpenVDB 2.0 … this one did not write);
 // returns the layout. OpenVDB must be initialised (the registered metadata types give sizes).
 VdbLayout checkVdbSizeFields(const std::string& path);
+
+// The walk continued over one float grid's transform and tree (Tree_float_5_4_3), before
+// OpenVDB reads it: every node mask, every value chunk's stated size against the number of
+// values its node and mask call for, and each Blosc chunk's header. OpenVDB 10's
+// bloscFromStream and unzipFromStream copy an uncompressed chunk of whatever size the file
+// states into the node's buffer before they compare it with the buffer's size (a heap
+// overflow: fuzz/openvdb-findings/); compressed chunks are handed to Blosc, which trusts its
+// header's sizes. Throws lobe::Error naming PATH and the node when anything does not add up.
+void checkVdbFloatTree(const std::string& path, const VdbGridEntry& grid);
 
 // The file as OpenVDB should read it to get one grid: its header and metadata, a grid count of
 // 1, and that grid's descriptor and data — so no byte the walk did not check is read as a

@@ -171,6 +171,9 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
                         (names.empty() ? "none" : names) + ")");
         if (!chosen)
             throw Error(path + ": the file holds no float grid (Lobe volumes are float grids)");
+        // Its transform and tree walked first: OpenVDB copies a value chunk of the size the
+        // file states before it checks it (vdb_size_check.h).
+        detail::checkVdbFloatTree(path, *chosen);
         // Only that grid, through a stream that throws at the end of its data: OpenVDB's
         // topology reader keeps allocating nodes after a read fails (a damaged child count or
         // mask in a few hundred bytes asked for gigabytes), so the first read past the end must

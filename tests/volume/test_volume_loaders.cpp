@@ -8,6 +8,8 @@
 #include "volume/volume_summary.h"
 
 #include <gtest/gtest.h>
+#include <openvdb/io/Compression.h>
+#include <openvdb/io/File.h>
 
 #include <sys/resource.h>
 #include <zlib.h>
@@ -688,6 +690,156 @@ TEST(VolumeErrors, VdbSizeFieldsBeyondTheFileAreRefusedUpFront) {
     expectError([&] { loadVdb(cut); }, {cut, "cannot read the OpenVDB file"});
     const std::string notVdb = writeFile("zeros.vdb", Bytes(200, 0));
     expectError([&] { loadVdb(notVdb); }, {notVdb, "no OpenVDB magic number"});
+}
+
+// The walk over a grid's tree (vdb_size_check.h) must agree with OpenVDB's reader on every
+// valid layout: each compression (none, zip, Blosc, with and without active-mask compression),
+// full and half floats, and every way a leaf's inactive values are stored (io/Compression.h:
+// none, -background, one value, a selection mask between two, all values), with tiles at the
+// root and in internal nodes, and root children on both sides of the origin.
+TEST(VolumeVdb, TreeWalkAcceptsEveryValidLayout) {
+    const float bg = 0.5f;
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(bg);
+    grid->setName("density");
+    auto& tree = grid->tree();
+    // Leaf k holds one active voxel (value 1 + k) and inactive voxels in pattern k.
+    const std::vector<std::vector<float>> inactive = {
+        {bg}, {-bg}, {7.f}, {bg, -bg}, {bg, 7.f}, {7.f, 9.f}, {7.f, 9.f, 11.f}};
+    for (int k = 0; k < int(inactive.size()); ++k)
+        for (int v = 0; v < 512; ++v) {
+            const openvdb::Coord c(8 * k + v % 8, v / 8 % 8, v / 64);
+            if (v == 0)
+                tree.setValueOn(c, 1.f + k);
+            else
+                tree.setValueOff(c, inactive[k][v % inactive[k].size()]);
+        }
+    // A fully active leaf of incompressible values, one across the origin.
+    std::uint32_t state = 12345;
+    for (int v = 0; v < 512; ++v) {
+        state = state * 1664525u + 1013904223u;
+        tree.setValueOn(openvdb::Coord(-8 + v % 8, v / 8 % 8, v / 64), float(state >> 8) * 1e-6f);
+    }
+    tree.addTile(1, openvdb::Coord(64, 0, 0), 3.f, true);    // an active 8³ tile
+    tree.addTile(1, openvdb::Coord(72, 0, 0), 4.f, false);   // an inactive one
+    tree.addTile(3, openvdb::Coord(8192, 0, 0), 5.f, false);  // a root tile
+    const openvdb::Index64 active = tree.activeVoxelCount();
+
+    using namespace openvdb::io;
+    const std::uint32_t compressions[] = {COMPRESS_NONE, COMPRESS_ZIP, COMPRESS_ACTIVE_MASK,
+                                          COMPRESS_ZIP | COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC,
+                                          COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK};
+    for (const bool half : {false, true})
+        for (const std::uint32_t compression : compressions) {
+            grid->setSaveFloatAsHalf(half);
+            const std::string path = (tempDir() / ("layout_" + std::to_string(compression) +
+                                                   (half ? "_half" : "") + ".vdb")).string();
+            openvdb::io::File out(path);
+            out.setCompression(compression);
+            out.write({grid});
+            SCOPED_TRACE(path);
+            Volume v;
+            ASSERT_NO_THROW(v = loadVdb(path));
+            EXPECT_EQ(v.grid->tree().activeVoxelCount(), active);
+            const double tolerance = half ? 1e-2 : 0.0;
+            for (const openvdb::Coord c : {openvdb::Coord(0, 0, 0), openvdb::Coord(8 * 6, 0, 0),
+                                           openvdb::Coord(-3, 5, 7), openvdb::Coord(66, 1, 1)})
+                EXPECT_NEAR(v.grid->tree().getValue(c), tree.getValue(c),
+                            tolerance * std::abs(tree.getValue(c)))
+                    << c;
+        }
+}
+
+// A value chunk whose stated size differs from what its node holds is refused before OpenVDB
+// reads it: OpenVDB 10 copies an uncompressed chunk of the stated size into the node's buffer
+// first (a heap overflow, found by fuzz_vdb; the file is kept in fuzz/openvdb-findings/). Also a
+// Blosc header that claims more bytes than its chunk, and a leaf whose mask differs between the
+// topology and the buffers.
+TEST(VolumeErrors, VdbValueChunksAreCheckedAgainstTheirNodes) {
+    const std::string finding =
+        std::string(LOBE_SOURCE_DIR) + "/fuzz/openvdb-findings/blosc-negative-chunk-overflow.vdb";
+    expectError([&] { loadVdb(finding); }, {finding, "uncompressed chunk", "damaged"});
+
+    // Two leaves: one with 4 active voxels (with active-mask compression 16 bytes of values,
+    // too few to compress: zip and Blosc both store them as they are, under the size -16), one
+    // fully active.
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.f);
+    grid->setName("density");
+    std::uint32_t state = 99;
+    for (int v = 0; v < 512; ++v) {
+        state = state * 1664525u + 1013904223u;
+        grid->tree().setValueOn(openvdb::Coord(v % 8, v / 8 % 8, v / 64), 1.f + float(state >> 8));
+    }
+    for (int v = 0; v < 4; ++v) grid->tree().setValueOn(openvdb::Coord(100 + v, 0, 0), 2.f + v);
+    const auto written = [&](const std::string& name, std::uint32_t compression) {
+        const std::string path = (tempDir() / name).string();
+        openvdb::io::File out(path);
+        out.setCompression(compression);
+        out.write({grid});
+        EXPECT_NO_THROW(loadVdb(path));
+        std::ifstream in(path, std::ios::binary);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const auto saved = [&](const std::string& name, const std::string& bytes) {
+        const std::string path = (tempDir() / name).string();
+        std::ofstream(path, std::ios::binary) << bytes;
+        return path;
+    };
+    const auto findInt64 = [](const std::string& bytes, std::int64_t value) {
+        char raw[8];
+        std::memcpy(raw, &value, 8);
+        return bytes.find(std::string(raw, 8));
+    };
+
+    // A Blosc chunk holding `nbytes`: its int64 size S, then the header with nbytes at +4 and
+    // cbytes = S at +12 (Blosc 1.x, blosc.h).
+    const auto findBlosc = [](const std::string& bytes, std::uint32_t want) {
+        for (size_t i = 0; i + 24 <= bytes.size(); ++i) {
+            std::int64_t stored = 0;
+            std::uint32_t nbytes = 0, cbytes = 0;
+            std::memcpy(&stored, &bytes[i], 8);
+            std::memcpy(&nbytes, &bytes[i + 8 + 4], 4);
+            std::memcpy(&cbytes, &bytes[i + 8 + 12], 4);
+            if (stored > 16 && nbytes == want && cbytes == stored) return i;
+        }
+        return std::string::npos;
+    };
+
+    // An uncompressed chunk's size lies (zip writes the 16 bytes as they are, under -16; Blosc
+    // always compresses, so its chunk's size is replaced by a negative one).
+    using namespace openvdb::io;
+    for (const std::uint32_t codec : {COMPRESS_ZIP, COMPRESS_BLOSC}) {
+        const std::string name = codec == COMPRESS_ZIP ? "zip" : "blosc";
+        const std::string bytes = written(name + ".vdb", codec | COMPRESS_ACTIVE_MASK);
+        const size_t at = codec == COMPRESS_ZIP ? findInt64(bytes, -16) : findBlosc(bytes, 16);
+        ASSERT_NE(at, std::string::npos) << name;
+        for (const std::int64_t lie : {std::int64_t(-4096), std::int64_t(-8),
+                                       std::numeric_limits<std::int64_t>::min()}) {
+            std::string b = bytes;
+            std::memcpy(&b[at], &lie, 8);
+            const std::string path = saved(name + "_lie" + std::to_string(lie % 1000) + ".vdb", b);
+            expectError([&] { loadVdb(path); }, {path, "uncompressed chunk", "its node takes 16"});
+        }
+    }
+
+    // A Blosc header claiming more bytes than its chunk holds.
+    const std::string blosc = written("blosc_full.vdb", COMPRESS_BLOSC);
+    const size_t chunk = findBlosc(blosc, 2048);
+    ASSERT_NE(chunk, std::string::npos);
+    std::string b = blosc;
+    const std::uint32_t cbytes = 100000;
+    std::memcpy(&b[chunk + 8 + 12], &cbytes, 4);
+    const std::string longHeader = saved("blosc_cbytes.vdb", b);
+    expectError([&] { loadVdb(longHeader); }, {longHeader, "Blosc chunk whose header states"});
+
+    const std::string zipped = written("zip_full.vdb", COMPRESS_ZIP);
+    // The leaf's mask, all 64 bytes on, appears in the topology and again before its values.
+    const std::string ones(64, '\xff');
+    const size_t second = zipped.find(ones, zipped.find(ones) + 64);
+    ASSERT_NE(second, std::string::npos);
+    std::string m = zipped;
+    m[second] = '\x7f';
+    const std::string masks = saved("mask.vdb", m);
+    expectError([&] { loadVdb(masks); }, {masks, "value mask differs", "512 on", "511 on"});
 }
 
 // `lobe info`'s percentiles (nearest rank, to within one of 65 536 bins) and histogram on 100
