@@ -385,13 +385,15 @@ void checkTree(Walk& walk, const ValueFormat& f) {
     const auto children = walk.read<std::uint32_t>("root child count");
     for (std::uint32_t t = 0; t < tiles; ++t) walk.skip(3 * 4 + 4 + 1, "root tile");
 
-    // Per root child, its leaves' active counts in topology order.
-    std::vector<std::vector<std::uint16_t>> branches(children);
+    // Per root child, its leaves' active counts in topology order (grown as children are
+    // read: the count is the file's word, each child takes at least 8 kB of the file).
+    std::vector<std::vector<std::uint16_t>> branches;
     std::map<std::array<std::int32_t, 3>, std::uint32_t> table;
     std::vector<std::uint64_t> upperChildren, lowerChildren;
     for (std::uint32_t c = 0; c < children; ++c) {
         std::array<std::int32_t, 3> origin{};
         walk.readBytes(origin.data(), sizeof origin, "root child origin");
+        branches.emplace_back();
         const std::string upper = "node at (" + std::to_string(origin[0]) + ", " +
                                   std::to_string(origin[1]) + ", " + std::to_string(origin[2]) + ")";
         readMask(walk, 32768, upper + " child mask", &upperChildren);
