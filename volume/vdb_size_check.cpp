@@ -124,9 +124,13 @@ private:
 // own size whatever the byte count says (TypedMetadata::readValue), so a byte count that differs
 // from it is refused. The delayed-load table (io/DelayedLoadMetadata) sizes its arrays by a
 // leaf count at the start of its value: each leaf takes at least a byte of the file.
-void checkMetaMap(Walk& walk, const std::string& where) {
+VdbMetaLayout checkMetaMap(Walk& walk, const std::string& where) {
+    VdbMetaLayout layout;
+    layout.countAt = walk.position();
     const auto count = walk.read<std::uint32_t>((where + " metadata count").c_str());
+    layout.count = count;
     for (std::uint32_t i = 0; i < count; ++i) {
+        const std::uint64_t entryAt = walk.position();
         const std::string name = walk.readString(where + " metadata name");
         const std::string field = where + " metadata '" + name + "'";
         const std::string type = walk.readString(field + " type name");
@@ -145,7 +149,10 @@ void checkMetaMap(Walk& walk, const std::string& where) {
         } else {
             walk.skip(bytes, field + " value");
         }
+        if (type == openvdb::io::DelayedLoadMetadata::staticTypeName())
+            layout.dropped.emplace_back(entryAt, walk.position());
     }
+    return layout;
 }
 
 }  // namespace
@@ -174,7 +181,7 @@ VdbLayout checkVdbSizeFields(const std::string& path) {
     walk.skip(8, "library version");
     const bool hasGridOffsets = walk.read<char>("grid offsets flag") != 0;
     walk.skip(36, "UUID");
-    checkMetaMap(walk, "file");
+    layout.fileMeta = checkMetaMap(walk, "file");
 
     // File::readGridDescriptors: a count, then per grid a descriptor followed by the grid; the
     // next descriptor starts where the grid ends.
@@ -210,7 +217,7 @@ VdbLayout checkVdbSizeFields(const std::string& path) {
         // first grid is checked.
         if (hasGridOffsets) walk.seek(static_cast<std::uint64_t>(gridPos), grid + " offset");
         entry.compression = walk.read<std::uint32_t>((grid + " compression flags").c_str());
-        checkMetaMap(walk, grid);
+        entry.meta = checkMetaMap(walk, grid);
         entry.transformAt = walk.position();
         walk.readString(grid + " transform type name");
         if (!hasGridOffsets) return layout;
@@ -221,33 +228,60 @@ VdbLayout checkVdbSizeFields(const std::string& path) {
 
 namespace {
 
-// Reads the pieces of a file in turn: [0, gridCountAt), a grid count of 1, [descriptorAt, end).
+// Reads the pieces of a file in turn: [0, gridCountAt), a grid count of 1, [descriptorAt, end),
+// each metadata table with its dropped entries left out and its count lowered to match.
 class OneGridBuffer : public std::streambuf {
 public:
     OneGridBuffer(const std::string& path, const VdbLayout& layout, const VdbGridEntry& grid)
         : in_(path, std::ios::binary) {
         if (!in_) throw Error(path + ": cannot open");
-        pieces_ = {{0, layout.gridCountAt}, {0, 0}, {grid.descriptorAt, grid.end}};
+        addRange(0, layout.gridCountAt, layout.fileMeta);
+        addLiteral(1);  // the grid count
+        addRange(grid.descriptorAt, grid.end, grid.meta);
     }
 
 private:
+    // A piece is a byte range of the file, or four literal bytes.
+    struct Piece {
+        std::uint64_t from = 0, to = 0;
+        bool isLiteral = false;
+        std::uint32_t literal = 0;
+    };
+
+    void addLiteral(std::uint32_t value) { pieces_.push_back({0, 0, true, value}); }
+
+    // [from, to), which holds the metadata table `meta`.
+    void addRange(std::uint64_t from, std::uint64_t to, const VdbMetaLayout& meta) {
+        if (meta.dropped.empty()) {
+            pieces_.push_back({from, to});
+            return;
+        }
+        pieces_.push_back({from, meta.countAt});
+        addLiteral(meta.count - std::uint32_t(meta.dropped.size()));
+        std::uint64_t at = meta.countAt + 4;
+        for (const auto& [skipFrom, skipTo] : meta.dropped) {
+            pieces_.push_back({at, skipFrom});
+            at = skipTo;
+        }
+        pieces_.push_back({at, to});
+    }
+
     int_type underflow() override {
         while (piece_ < pieces_.size()) {
-            if (piece_ == 1) {  // the patched grid count
-                const std::int32_t one = 1;
-                std::memcpy(buffer_, &one, sizeof one);
-                setg(buffer_, buffer_, buffer_ + sizeof one);
+            Piece& p = pieces_[piece_];
+            if (p.isLiteral) {
+                std::memcpy(buffer_, &p.literal, sizeof p.literal);
+                setg(buffer_, buffer_, buffer_ + sizeof p.literal);
                 ++piece_;
                 return traits_type::to_int_type(buffer_[0]);
             }
-            auto& [from, to] = pieces_[piece_];
-            if (from < to) {
-                const std::uint64_t n = std::min<std::uint64_t>(sizeof buffer_, to - from);
-                in_.seekg(static_cast<std::streamoff>(from));
+            if (p.from < p.to) {
+                const std::uint64_t n = std::min<std::uint64_t>(sizeof buffer_, p.to - p.from);
+                in_.seekg(static_cast<std::streamoff>(p.from));
                 in_.read(buffer_, static_cast<std::streamsize>(n));
                 const auto got = static_cast<std::uint64_t>(in_.gcount());
                 if (got == 0) return traits_type::eof();
-                from += got;
+                p.from += got;
                 setg(buffer_, buffer_, buffer_ + got);
                 return traits_type::to_int_type(buffer_[0]);
             }
@@ -257,7 +291,7 @@ private:
     }
 
     std::ifstream in_;
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> pieces_;
+    std::vector<Piece> pieces_;
     std::size_t piece_ = 0;
     char buffer_[1 << 16];
 };

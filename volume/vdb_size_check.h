@@ -11,9 +11,21 @@
 #include <memory>
 #include <streambuf>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lobe::detail {
+
+// A metadata table's count and the entries left out of what OpenVDB reads: the delayed-load
+// table ("__delayedload"), whose reader (io/DelayedLoadMetadata.cc) consumes as many bytes as
+// its own fields say rather than the entry's stated size, so a damaged one shifts every read
+// after it (a fuzz finding: a metadata name of gigabytes). Lobe reads without delayed loading,
+// so the table is of no use to it.
+struct VdbMetaLayout {
+    std::uint64_t countAt = 0;
+    std::uint32_t count = 0;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> dropped;  // [from, to) byte ranges
+};
 
 // Where the walk found each grid: its descriptor's first byte and the end of its data.
 struct VdbGridEntry {
@@ -23,8 +35,10 @@ struct VdbGridEntry {
     std::uint64_t transformAt = 0;  // the transform's map type name; the tree follows the map
     std::uint32_t compression = 0;  // io::COMPRESS_* flags of this grid's values
     bool instance = false;          // an instance of another grid: no tree of its own
+    VdbMetaLayout meta;             // the grid's metadata
 };
 struct VdbLayout {
+    VdbMetaLayout fileMeta;
     std::uint64_t gridCountAt = 0;     // offset of the grid count (after the file metadata)
     std::vector<VdbGridEntry> grids;   // without grid offsets (a stream): the first grid only
 };
@@ -45,7 +59,7 @@ void checkVdbFloatTree(const std::string& path, const VdbGridEntry& grid);
 
 // The file as OpenVDB should read it to get one grid: its header and metadata, a grid count of
 // 1, and that grid's descriptor and data — so no byte the walk did not check is read as a
-// descriptor. Reads past the end fail (give the istream exceptions to stop OpenVDB there).
+// descriptor — without the metadata entries the walk dropped (their tables' counts lowered). Reads past the end fail (give the istream exceptions to stop OpenVDB there).
 std::unique_ptr<std::streambuf> oneGridOf(const std::string& path, const VdbLayout& layout,
                                           const VdbGridEntry& grid);
 

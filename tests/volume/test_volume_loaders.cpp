@@ -831,6 +831,26 @@ TEST(VolumeErrors, VdbValueChunksAreCheckedAgainstTheirNodes) {
     const std::string longHeader = saved("blosc_cbytes.vdb", b);
     expectError([&] { loadVdb(longHeader); }, {longHeader, "Blosc chunk whose header states"});
 
+    // The delayed-load table ("__delayedload", which OpenVDB's writer adds to every grid) is
+    // left out of what OpenVDB reads: its reader trusts its own size fields over the entry's
+    // stated size, so a damaged one shifted every later read (a fuzz finding). With its mask
+    // block's size made absurd, the grid still loads, value for value.
+    {
+        std::string d = written("delayed.vdb", COMPRESS_BLOSC);
+        const std::string type = "__delayedload";
+        const size_t at = d.find(type);
+        ASSERT_NE(at, std::string::npos);
+        // the type name, then the entry's uint32 size, the leaf count, the mask block's size
+        const std::uint32_t absurd = 0x7FFFFFF0u;
+        std::memcpy(&d[at + type.size() + 4 + 4], &absurd, 4);
+        const std::string path = saved("delayed_damaged.vdb", d);
+        Volume v;
+        ASSERT_NO_THROW(v = loadVdb(path));
+        EXPECT_EQ(v.grid->tree().activeVoxelCount(), grid->tree().activeVoxelCount());
+        EXPECT_EQ(v.grid->tree().getValue(openvdb::Coord(3, 4, 5)),
+                  grid->tree().getValue(openvdb::Coord(3, 4, 5)));
+    }
+
     const std::string zipped = written("zip_full.vdb", COMPRESS_ZIP);
     // The leaf's mask, all 64 bytes on, appears in the topology and again before its values.
     const std::string ones(64, '\xff');
