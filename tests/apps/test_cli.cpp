@@ -565,4 +565,42 @@ TEST(Cli, ConvertThenInfoRoundTrips) {
     EXPECT_NE(r.exitCode, 0);
 }
 
+
+// ---- framing (render/framing.h) -------------------------------------------------------------
+
+// A fitted scene prints its computed camera and lights; --orbit N writes N numbered frames and
+// their contact sheet, and a bad framing key writes nothing.
+TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
+    const fs::path d = testDir();
+    std::string text = readFile(kSource + "/assets/scenes/framing/brain-left.json");
+    for (size_t p; (p = text.find("\"../../")) != std::string::npos;)
+        text.replace(p, 7, "\"" + kSource + "/assets/");
+    const fs::path scene = d / "brain-left.json";
+    std::ofstream(scene) << text;
+    CliRun r = lobe("render " + quote(scene.string()) + " --orbit 3 --width 16 --spp 1 --quiet --out " +
+                    quote((d / "out").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* name : {"brain-left-orbit-000", "brain-left-orbit-001", "brain-left-orbit-002"}) {
+        EXPECT_TRUE(fs::exists(d / "out" / (std::string(name) + ".exr"))) << name;
+        EXPECT_TRUE(fs::exists(d / "out" / (std::string(name) + ".png"))) << name;
+    }
+    EXPECT_FALSE(fs::exists(d / "out" / "brain-left-orbit-003.exr"));
+    EXPECT_FALSE(fs::exists(d / "out" / "brain-left.exr"));
+    EXPECT_TRUE(fs::exists(d / "out" / "contact-sheet-brain-left-orbit.png"));
+    EXPECT_NE(r.out.find("0 deg: fitted view:\n\"camera\": {\"position\": ["), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("\"lights\": [\n  {\"position\": "), std::string::npos) << r.out;
+    // An unknown object to fit: one error naming the key, nothing written.
+    const size_t p = text.find("\"objects\": [\"cortex\"]");
+    ASSERT_NE(p, std::string::npos);
+    text.replace(p, 21, "\"objects\": [\"cortx\"]");
+    std::ofstream(scene) << text;
+    r = lobe("render " + quote(scene.string()) + " --width 16 --spp 1 --quiet --out " +
+             quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("camera.fit.objects: no object is named 'cortx'"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / "bad"));
+}
+
 }  // namespace
