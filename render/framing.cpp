@@ -1,11 +1,11 @@
 #include "render/framing.h"
 
-#include "core/error.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+
+#include "core/error.h"
 
 namespace lobe {
 
@@ -212,9 +212,8 @@ void resolveView(SceneSpec& spec, const std::vector<WorldBox>& objectBoxes) {
     // The objects framed and orbited: the fit's named ones, or all.
     WorldBox box;
     for (size_t i = 0; i < spec.objects.size() && i < objectBoxes.size(); ++i)
-        if (spec.fit.objects.empty() ||
-            std::find(spec.fit.objects.begin(), spec.fit.objects.end(), spec.objects[i].name) !=
-                spec.fit.objects.end())
+        if (spec.fit.objects.empty() || std::find(spec.fit.objects.begin(), spec.fit.objects.end(),
+                                                  spec.objects[i].name) != spec.fit.objects.end())
             box.grow(objectBoxes[i]);
     const std::string where = spec.path + ": camera.";
     if (spec.fit.enabled) {
@@ -270,9 +269,10 @@ std::string frozenViewJson(const SceneSpec& spec) {
     s += "},\n\"lights\": [";
     for (size_t i = 0; i < spec.lights.size(); ++i) {
         const Spectrum& I = spec.lights[i].intensity;
-        const std::string intensity = I[0] == I[1] && I[1] == I[2]
-                                          ? fmt(I[0])
-                                          : "[" + fmt(I[0]) + ", " + fmt(I[1]) + ", " + fmt(I[2]) + "]";
+        const std::string intensity =
+            I[0] == I[1] && I[1] == I[2]
+                ? fmt(I[0])
+                : "[" + fmt(I[0]) + ", " + fmt(I[1]) + ", " + fmt(I[2]) + "]";
         s += std::string(i ? ",\n  " : "\n  ") + "{\"position\": " + vec(spec.lights[i].position) +
              ", \"intensity\": " + intensity + "}";
     }

@@ -1,8 +1,8 @@
 // Camera and lights without arithmetic: what a scene's "camera": {"fit": …, "zoom": …} and
 // "lights": {"rig": …} ask for (docs/scene-format.md, "Framing"), turned into the plain position,
-// target, up, crop and point lights the renderer uses. It runs at scene assembly (render/scene.cpp),
-// where the objects' world boxes are known, and `lobe render` prints its result so a user can
-// freeze it into the scene.
+// target, up, crop and point lights the renderer uses. It runs at scene assembly
+// (render/scene.cpp), where the objects' world boxes are known, and `lobe render` prints its result
+// so a user can freeze it into the scene.
 //
 // Conventions (world axes, which for NIfTI data are RAS: +x right, +y anterior, +z superior):
 // - A named view names the side the camera looks *from*: "anterior" puts the camera on +y looking
@@ -17,13 +17,13 @@
 //   convention of core/light.h's point lights (I · cos θ / d², θ = 0).
 #pragma once
 
-#include "core/camera.h"
-#include "core/light.h"
-#include "render/scene_description.h"
-
 #include <limits>
 #include <string>
 #include <vector>
+
+#include "core/camera.h"
+#include "core/light.h"
+#include "render/scene_description.h"
 
 namespace lobe {
 

@@ -3,16 +3,16 @@
 // at the target (I/d² on a plane facing the light), close-up crops of world points and boxes, the
 // crop-aspect error, turntable frames as rotations of frame 0, and one scene fitted end to end
 // from a loaded volume's world box.
-#include "render/framing.h"
-#include "render/render_scene.h"
-#include "render/scene_file.h"
-#include "core/error.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+
+#include "core/error.h"
+#include "render/framing.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 
 namespace lobe {
 namespace {
@@ -72,20 +72,20 @@ TEST(Framing, NamedViewsAreSidesOfTheHeadInRas) {
 TEST(Framing, SphereFitSitsAtRadiusOverSineOfHalfFov) {
     const Vec3 c(10, 20, 30);
     const double r = 5.0, rho = r * std::sqrt(3.0);
-    const FittedCamera a = fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 60.0, 1.0, 1.0,
-                                     "sphere");
+    const FittedCamera a =
+        fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 60.0, 1.0, 1.0, "sphere");
     EXPECT_NEAR(a.distance, 2.0 * rho, 1e-9);
     expectNear(a.position, c + Vec3(0, 2.0 * rho, 0));
     expectNear(a.target, c);
     const double alpha = std::atan(std::tan(radians(30.0)) / 1.25);
-    const FittedCamera m = fitCamera(cube(c, r), viewDirection("left", 0, 0), 60.0, 1.0, 1.25,
-                                     "sphere");
+    const FittedCamera m =
+        fitCamera(cube(c, r), viewDirection("left", 0, 0), 60.0, 1.0, 1.25, "sphere");
     EXPECT_NEAR(m.distance, rho / std::sin(alpha), 1e-9);
     expectNear(m.position, c - Vec3(rho / std::sin(alpha), 0, 0));
     // A wide image: the vertical field is the narrower one and decides.
-    EXPECT_NEAR(fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 60.0, 2.0, 1.0, "sphere")
-                    .distance,
-                2.0 * rho, 1e-9);
+    EXPECT_NEAR(
+        fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 60.0, 2.0, 1.0, "sphere").distance,
+        2.0 * rho, 1e-9);
 }
 
 // The box's 8 corners: with fov 90° (tan 45° = 1) the nearest face's corners (depth d − r,
@@ -93,13 +93,13 @@ TEST(Framing, SphereFitSitsAtRadiusOverSineOfHalfFov) {
 TEST(Framing, BoxFitPutsTheNearestCornersOnTheFrameEdge) {
     const Vec3 c(1, 2, 3);
     const double r = 2.0;
-    EXPECT_NEAR(fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 90.0, 1.0, 1.0, "box")
-                    .distance,
-                2.0 * r, 1e-12);
+    EXPECT_NEAR(
+        fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 90.0, 1.0, 1.0, "box").distance,
+        2.0 * r, 1e-12);
     // Margin 2: the box spans half the frame, tan = 1/2, d = r/0.5 + r.
-    EXPECT_NEAR(fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 90.0, 1.0, 2.0, "box")
-                    .distance,
-                3.0 * r, 1e-12);
+    EXPECT_NEAR(
+        fitCamera(cube(c, r), viewDirection("anterior", 0, 0), 90.0, 1.0, 2.0, "box").distance,
+        3.0 * r, 1e-12);
     // Half extents (1, 2, 3) from the left: image right is −y (extent 2), image up +z (extent 3),
     // the nearest corners 1 in front of the centre: d = max(2/1 + 1, 3/1 + 1) = 4.
     const WorldBox b{c - Vec3(1, 2, 3), c + Vec3(1, 2, 3)};
@@ -110,8 +110,8 @@ TEST(Framing, BoxFitPutsTheNearestCornersOnTheFrameEdge) {
     EXPECT_NEAR(fitCamera(b, viewDirection("left", 0, 0), 90.0, 2.0, 1.0, "box").distance, 4.0,
                 1e-12);
     // From above (superior, up anterior): image right +x (1), up +y (2), nearest 3 above: 2 + 3.
-    EXPECT_NEAR(fitCamera(b, viewDirection("superior", 0, 0), 90.0, 1.0, 1.0, "box").distance,
-                5.0, 1e-12);
+    EXPECT_NEAR(fitCamera(b, viewDirection("superior", 0, 0), 90.0, 1.0, 1.0, "box").distance, 5.0,
+                1e-12);
     EXPECT_THROW(fitCamera(WorldBox{}, viewDirection("left", 0, 0), 30, 1, 1, "box"), Error);
     EXPECT_THROW(fitCamera(WorldBox{c, c}, viewDirection("left", 0, 0), 30, 1, 1, "box"), Error);
 }
@@ -217,9 +217,10 @@ TEST(Framing, CropWithAnotherAspectIsAnError) {
     EXPECT_NE(e.find("scene.json: camera.crop:"), std::string::npos) << e;
     EXPECT_NE(e.find("stretched 2 times"), std::string::npos) << e;
     EXPECT_NE(e.find("[0.225, 0.2, 0.475, 0.45]"), std::string::npos) << e;
-    EXPECT_EQ(errorOf(sceneWith(
-                  R"({"position": [0, 0, 5], "target": [0, 0, 0], "crop": [0.1, 0.2, 0.35, 0.45]})")),
-              "");
+    EXPECT_EQ(
+        errorOf(sceneWith(
+            R"({"position": [0, 0, 5], "target": [0, 0, 0], "crop": [0.1, 0.2, 0.35, 0.45]})")),
+        "");
     // The shipped close-ups' crop (scripts/make_paper_scenes.py ZOOM_CROP) is square.
     EXPECT_NEAR(cropStretch(CropWindow{0.3, 0.22, 0.7, 0.62}), 1.0, 1e-12);
     EXPECT_NEAR(cropStretch(CropWindow{0.1, 0.2, 0.6, 0.45}), 2.0, 1e-12);
@@ -255,7 +256,8 @@ TEST(Framing, SceneKeysAreReadAndMisuseNamed) {
     EXPECT_TRUE(has(e, "camera.fit: give either view or azimuth_deg")) << e;
     e = errorOf(sceneWith(R"({"fit": {"objects": ["b"]}})"));
     EXPECT_TRUE(has(e, "camera.fit.objects: no object is named 'b' (objects: a)")) << e;
-    e = errorOf(sceneWith(R"({"fit": {}, "crop": [0, 0, 0.5, 0.5], "zoom": {"point": [0, 0, 0]}})"));
+    e = errorOf(
+        sceneWith(R"({"fit": {}, "crop": [0, 0, 0.5, 0.5], "zoom": {"point": [0, 0, 0]}})"));
     EXPECT_TRUE(has(e, "camera.zoom: give either zoom or crop")) << e;
     e = errorOf(sceneWith(R"({"fit": {}, "zoom": {"point": [0, 0, 0]}})"));
     EXPECT_TRUE(has(e, "camera.zoom.size: missing")) << e;
@@ -269,10 +271,10 @@ TEST(Framing, SceneKeysAreReadAndMisuseNamed) {
 // objects' centre. Frame 0 at (0, −10, 0), centre (1, 0, 0), up +z: a quarter turn takes the
 // offset (−1, −10, 0) to (10, −1, 0), so the camera to (11, −1, 0).
 TEST(Framing, OrbitFramesAreRotationsOfFrameZero) {
-    SceneSpec spec = parseScene(
-        sceneWith(R"({"position": [0, -10, 0], "target": [1, 0, 0], "up": [0, 0, 1]})",
-                  R"([{"position": [0, -12, 3], "intensity": 5}])"),
-        kBase, "dir/turn.json");
+    SceneSpec spec =
+        parseScene(sceneWith(R"({"position": [0, -10, 0], "target": [1, 0, 0], "up": [0, 0, 1]})",
+                             R"([{"position": [0, -12, 3], "intensity": 5}])"),
+                   kBase, "dir/turn.json");
     const std::vector<WorldBox> boxes{cube(Vec3(1, 0, 0), 2.0)};
     std::vector<SceneSpec> frames = orbitFrames(spec, 4);
     ASSERT_EQ(frames.size(), 4u);
@@ -286,7 +288,8 @@ TEST(Framing, OrbitFramesAreRotationsOfFrameZero) {
     // The light turns with the camera: offset (−1, −12, 3) → (12, −1, 3).
     expectNear(frames[1].lights[0].position, Vec3(13, -1, 3));
     for (int k = 0; k < 4; ++k) {
-        const Vec3 p = rotateAbout(frames[0].cameraPosition, Vec3(1, 0, 0), Vec3(0, 0, 1), 90.0 * k);
+        const Vec3 p =
+            rotateAbout(frames[0].cameraPosition, Vec3(1, 0, 0), Vec3(0, 0, 1), 90.0 * k);
         expectNear(frames[size_t(k)].cameraPosition, p, 1e-9);
     }
     // A rig follows the turned camera: the headlight sits on it.
@@ -301,11 +304,11 @@ TEST(Framing, OrbitFramesAreRotationsOfFrameZero) {
 
 // The printed numbers, pasted into a scene, give the same camera and lights.
 TEST(Framing, PrintedViewReadsBackAsTheSameCamera) {
-    SceneSpec spec = parseScene(
-        sceneWith(R"({"fit": {"azimuth_deg": 30, "elevation_deg": 20}, "fov_deg": 25,
+    SceneSpec spec =
+        parseScene(sceneWith(R"({"fit": {"azimuth_deg": 30, "elevation_deg": 20}, "fov_deg": 25,
                       "zoom": {"box": [[0, 0, 0], [1, 1, 1]]}})",
-                  R"({"rig": "paper"})"),
-        kBase, "scene.json");
+                             R"({"rig": "paper"})"),
+                   kBase, "scene.json");
     resolveView(spec, {WorldBox{Vec3(-3, -4, -5), Vec3(6, 7, 8)}});
     const std::string frozen = frozenViewJson(spec);
     const std::string text = R"({"image": {"width": 64, "height": 64}, )" + frozen +
