@@ -250,14 +250,18 @@ void runRender(const RenderCommand& cmd) {
         const std::vector<std::string> volumeErrors = volumes.preload(all);
         std::vector<SceneSpec> loadable;
         for (size_t k = 0; k < specs.size(); ++k) {
-            if (volumeErrors[k].empty()) {
+            // Fitted cameras, zooms and rigs checked too (render/framing.h): none fails later.
+            const std::string error = volumeErrors[k].empty()
+                                          ? computedViewError(specs[k], volumes)
+                                          : volumeErrors[k];
+            if (error.empty()) {
                 loadable.push_back(std::move(specs[k]));
                 continue;
             }
-            if (!cmd.check && !cmd.keepGoing) throw Error(volumeErrors[k]);
-            errors.push_back(volumeErrors[k]);
+            if (!cmd.check && !cmd.keepGoing) throw Error(error);
+            errors.push_back(error);
             if (!cmd.check && root)
-                std::fprintf(stderr, "lobe: error: %s (skipped)\n", volumeErrors[k].c_str());
+                std::fprintf(stderr, "lobe: error: %s (skipped)\n", error.c_str());
         }
         specs = std::move(loadable);
         if (root && !cmd.check) createOutputFolder(cmd.outDir);

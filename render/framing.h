@@ -88,6 +88,17 @@ void resolveView(SceneSpec& spec, const std::vector<WorldBox>& objectBoxes);
 // (group NAME-orbit). n ≤ 0: the scene itself.
 std::vector<SceneSpec> orbitFrames(const SceneSpec& spec, int n);
 
+class VolumeCache;  // render/scene.h
+
+// The world box of each object's active voxels (centres ± half a voxel, after its transform), as
+// scene assembly computes it, the volumes taken from (or loaded into) `cache`. In render/scene.cpp.
+std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache);
+
+// What scene assembly would find wrong with the scene's computed view (a fit to objects with no
+// active voxel, a zoom outside the view, …), as its error message; "" when nothing. For checking
+// a batch before anything renders. In render/scene.cpp.
+std::string computedViewError(const SceneSpec& spec, VolumeCache& cache);
+
 // True when resolveView computed anything a user may want to freeze into the scene.
 bool hasComputedView(const SceneSpec& spec);
 

@@ -178,6 +178,37 @@ std::shared_ptr<const SurfaceGeometry> levelSetOf(const openvdb::FloatGrid::Ptr&
 
 }  // namespace
 
+std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache) {
+    std::vector<WorldBox> boxes(spec.objects.size());
+    for (size_t i = 0; i < spec.objects.size(); ++i) {
+        const ObjectSpec& object = spec.objects[i];
+        const std::string context =
+            spec.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
+        const openvdb::FloatGrid::Ptr grid =
+            placeInWorld(*cache.get(object.source), object.transform, context);
+        growByGridBox(*grid, boxes[i].lo, boxes[i].hi);
+    }
+    return boxes;
+}
+
+std::string computedViewError(const SceneSpec& spec, VolumeCache& cache) {
+    if (!hasComputedView(spec)) return "";
+    try {
+        SceneSpec resolved = spec;
+        resolveView(resolved, objectWorldBoxes(resolved, cache));
+        try {
+            PinholeCamera(resolved.cameraPosition, resolved.cameraTarget, resolved.cameraUp,
+                          resolved.fovDegrees, double(resolved.width) / resolved.height,
+                          resolved.crop);
+        } catch (const Error& e) {
+            throw Error(spec.path + ": " + e.what());
+        }
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(spec) {
     openvdb::initialize();
     ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);

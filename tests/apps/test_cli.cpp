@@ -601,6 +601,26 @@ TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
     EXPECT_NE(r.err.find("camera.fit.objects: no object is named 'cortx'"), std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(d / "bad"));
+    // A close-up outside the fitted view, second in a batch: found (and by --check) before the
+    // first scene renders.
+    text.replace(p, 20, "\"objects\": [\"cortex\"]");  // "cortx" is 20 characters
+    std::ofstream(scene) << text;
+    std::string far = text;
+    const size_t c = far.find("\"fov_deg\": 30");
+    ASSERT_NE(c, std::string::npos);
+    far.insert(c, "\"zoom\": {\"point\": [0, 2000, 0], \"size\": 10}, ");
+    std::ofstream(d / "far.json") << far;
+    const std::string batch = quote(scene.string()) + " " + quote((d / "far.json").string());
+    r = lobe("render " + batch + " --width 16 --spp 1 --quiet --out " + quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("far.json: camera.zoom: the zoom's centre is outside the view"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / "bad"));
+    r = lobe("render " + batch + " --check");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("far.json: camera.zoom:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("1 of 2 scenes have errors"), std::string::npos) << r.err;
 }
 
 }  // namespace
