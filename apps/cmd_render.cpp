@@ -6,6 +6,7 @@
 #include "apps/contact_sheet.h"
 #include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
+#include "render/framing.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "core/cluster.h"
@@ -43,6 +44,7 @@ struct RenderCommand {
     bool skipExisting = false;  // resume: scenes whose EXR and PNG exist are not rendered again
     bool keepGoing = false;     // a failing scene is reported and the batch goes on
     std::string shard;          // "i/N": render part i of N (array jobs; `lobe merge` joins)
+    int orbit = 0;              // --orbit N: each scene as N turntable frames (render/framing.h)
 };
 
 // --shard i/N → (i, N); N = 0 when not sharding.
@@ -198,7 +200,7 @@ Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovR
 // --preview renders so that a quick look never replaces a full render.
 std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
     const std::string stem =
-        fs::path(spec.path).stem().string() + (cmd.overrides.preview ? "-preview" : "");
+        fs::path(spec.path).stem().string() + spec.outputSuffix + (cmd.overrides.preview ? "-preview" : "");
     return (fs::path(cmd.outDir) / stem).string();
 }
 
@@ -222,14 +224,17 @@ void runRender(const RenderCommand& cmd) {
         files = collectScenes(cmd);
         for (const std::string& f : files) {
             try {
-                SceneSpec spec = loadSceneFile(f);
-                cmd.overrides.apply(spec);
-                const std::string base = outputBase(cmd, spec);
-                const auto [it, fresh] = writerOf.emplace(base, f);
-                if (!fresh)
-                    throw Error("scenes '" + it->second + "' and '" + f + "' would both write " + base +
-                                ".exr/.png: rename one, or render them into different --out folders");
-                specs.push_back(std::move(spec));
+                SceneSpec loaded = loadSceneFile(f);
+                cmd.overrides.apply(loaded);
+                for (SceneSpec& spec : orbitFrames(loaded, cmd.orbit)) {
+                    const std::string base = outputBase(cmd, spec);
+                    const auto [it, fresh] = writerOf.emplace(base, f);
+                    if (!fresh)
+                        throw Error("scenes '" + it->second + "' and '" + f + "' would both write " +
+                                    base + ".exr/.png: rename one, or render them into different "
+                                    "--out folders");
+                    specs.push_back(std::move(spec));
+                }
             } catch (const Error& e) {
                 if (!cmd.check && !cmd.keepGoing) throw;
                 errors.push_back(e.what());
@@ -245,14 +250,18 @@ void runRender(const RenderCommand& cmd) {
         const std::vector<std::string> volumeErrors = volumes.preload(all);
         std::vector<SceneSpec> loadable;
         for (size_t k = 0; k < specs.size(); ++k) {
-            if (volumeErrors[k].empty()) {
+            // Fitted cameras, zooms and rigs checked too (render/framing.h): none fails later.
+            const std::string error = volumeErrors[k].empty()
+                                          ? computedViewError(specs[k], volumes)
+                                          : volumeErrors[k];
+            if (error.empty()) {
                 loadable.push_back(std::move(specs[k]));
                 continue;
             }
-            if (!cmd.check && !cmd.keepGoing) throw Error(volumeErrors[k]);
-            errors.push_back(volumeErrors[k]);
+            if (!cmd.check && !cmd.keepGoing) throw Error(error);
+            errors.push_back(error);
             if (!cmd.check && root)
-                std::fprintf(stderr, "lobe: error: %s (skipped)\n", volumeErrors[k].c_str());
+                std::fprintf(stderr, "lobe: error: %s (skipped)\n", error.c_str());
         }
         specs = std::move(loadable);
         if (root && !cmd.check) createOutputFolder(cmd.outDir);
@@ -320,6 +329,9 @@ void runRender(const RenderCommand& cmd) {
         try {
             std::unique_ptr<RenderScene> scene;
             cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
+            if (root && hasComputedView(scene->spec()))  // fitted numbers, to freeze into the scene
+                std::printf("%s%s: fitted view:\n%s\n", quiet ? "" : "\n", spec.title.c_str(),
+                            frozenViewJson(scene->spec()).c_str());
             RenderStats stats;
             AovImage aovs;
             const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress);
@@ -526,6 +538,11 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--aov", cmd.aov,
                     "extra EXR passes: all, or a comma list of objects (each object's lambert and "
                     "specular contribution), backdrop, depth, normal, id (object contributing most)");
+    sub->add_option("--orbit", cmd.orbit,
+                    "N: a turntable of each scene, N frames turned 360/N degrees apart about the "
+                    "camera's up axis through the objects' centre, lights turning with the camera; "
+                    "writes NAME-orbit-000.exr/.png ... and contact-sheet-NAME-orbit.png")
+        ->check(CLI::Range(1, 3600));
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->callback([] { runRender(cmd); });
 

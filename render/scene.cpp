@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "render/framing.h"
 #include "surface/iso_exact.h"
 #include "surface/iso_levelset.h"
 #include "surface/iso_mesh.h"
@@ -177,22 +178,53 @@ std::shared_ptr<const SurfaceGeometry> levelSetOf(const openvdb::FloatGrid::Ptr&
 
 }  // namespace
 
+std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache) {
+    std::vector<WorldBox> boxes(spec.objects.size());
+    for (size_t i = 0; i < spec.objects.size(); ++i) {
+        const ObjectSpec& object = spec.objects[i];
+        const std::string context =
+            spec.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
+        const openvdb::FloatGrid::Ptr grid =
+            placeInWorld(*cache.get(object.source), object.transform, context);
+        growByGridBox(*grid, boxes[i].lo, boxes[i].hi);
+    }
+    return boxes;
+}
+
+std::string computedViewError(const SceneSpec& spec, VolumeCache& cache) {
+    if (!hasComputedView(spec)) return "";
+    try {
+        SceneSpec resolved = spec;
+        resolveView(resolved, objectWorldBoxes(resolved, cache));
+        try {
+            PinholeCamera(resolved.cameraPosition, resolved.cameraTarget, resolved.cameraUp,
+                          resolved.fovDegrees, double(resolved.width) / resolved.height,
+                          resolved.crop);
+        } catch (const Error& e) {
+            throw Error(spec.path + ": " + e.what());
+        }
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(spec) {
     openvdb::initialize();
-    camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
-                            spec_.fovDegrees, double(spec_.width) / spec_.height, spec_.crop);
     ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);
     VolumeCache own;
     VolumeCache& volumes = cache ? *cache : own;
     const std::string error = volumes.preload({&spec_}).front();
     if (!error.empty()) throw Error(error);
     Vec3 lo(kInf), hi(-kInf);
+    std::vector<WorldBox> objectBoxes(spec_.objects.size());  // for camera.fit (framing.h)
     for (size_t i = 0; i < spec_.objects.size(); ++i) {
         const ObjectSpec& object = spec_.objects[i];
         const std::string context =
             spec_.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
         const std::shared_ptr<const Volume> volume = volumes.get(object.source);
         openvdb::FloatGrid::Ptr grid = placeInWorld(*volume, object.transform, context);
+        growByGridBox(*grid, objectBoxes[i].lo, objectBoxes[i].hi);
         growByGridBox(*grid, lo, hi);
         const TangentAxes tangent = worldAxes(object);
         if (object.kind == ObjectSpec::Kind::IsoSurface) {
@@ -231,6 +263,15 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
     }
     if (surfaces_) surfaces_->commit();
     loading.finish();
+
+    // The camera and lights a scene asks to be computed from the objects' boxes (framing.h).
+    resolveView(spec_, objectBoxes);
+    try {
+        camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
+                                spec_.fovDegrees, double(spec_.width) / spec_.height, spec_.crop);
+    } catch (const Error& e) {
+        throw Error(spec_.path + ": " + e.what());
+    }
 
     if (spec_.backdrop.enabled) {
         // Behind everything: the farthest corner of the objects' box along the view, plus 10 %.

@@ -74,6 +74,39 @@ struct BackdropSpec {
     bool grey = false;    // cells of random lightness but no hue (no tint through glass)
 };
 
+// A camera fitted to the objects at scene assembly (render/framing.h): from a named view or an
+// azimuth/elevation in world axes (RAS for NIfTI data), at the distance where the objects' box
+// fills 1/margin of the frame.
+struct CameraFitSpec {
+    bool enabled = false;
+    std::string view;               // anterior, posterior, left, right, superior, inferior; "": angles
+    double azimuthDeg = 0.0;        // from +y (anterior) towards +x (right)
+    double elevationDeg = 0.0;      // towards +z (superior)
+    bool upGiven = false;           // camera.up given: it wins over the view's own up
+    std::vector<std::string> objects;  // names of the objects to fit; empty: all
+    double margin = 1.1;
+    std::string method = "box";     // box (its 8 corners projected) | sphere (around the box)
+};
+
+// A close-up of a world point or box: the crop window of the (fitted or given) view around it.
+struct ZoomSpec {
+    enum class Kind { None, Point, Box };
+    Kind kind = Kind::None;
+    Vec3 center{0.0};
+    double size = 0.0;   // Point: world units across the crop's shorter side at the point's depth
+    Vec3 lo{0.0}, hi{0.0};  // Box
+    double margin = 1.1;    // Box: the box's projection fills 1/margin of the crop
+};
+
+// Lights placed relative to the camera at scene assembly (render/framing.h).
+struct LightRigSpec {
+    std::string rig;              // "": the scene's own lights; headlight | paper
+    Spectrum irradiance{1.0};     // each light's irradiance at the target, on a plane facing it
+    double angleDeg = 0.0;        // paper: off-axis angle of the lights seen from the target; 0:
+                                  // towards the corners of the view at the target's depth
+    double behind = 50.0 / 560.0;  // paper: distance behind the camera / camera-target distance
+};
+
 struct SceneSpec {
     std::string path;  // the scene file
     std::string title;  // caption for contact sheets (default: the file's name)
@@ -91,7 +124,14 @@ struct SceneSpec {
     Vec3 cameraUp{0, 1, 0};
     double fovDegrees = 30.0;
     CropWindow crop;
+    CameraFitSpec fit;
+    ZoomSpec zoom;
+    // Turntable: the camera (and every light with it) turned by this angle about the axis along
+    // cameraUp through the objects' centre, after fitting (`lobe render --orbit N`).
+    double orbitDeg = 0.0;
+    std::string outputSuffix;  // appended to the output file name (orbit frames: "-orbit-003")
     std::vector<PointLight> lights;
+    LightRigSpec lightRig;
     BackdropSpec backdrop;
     double volumeStepVoxels = 0.05;
     double terminationTransmittance = 1e-3;

@@ -3,11 +3,13 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "materials/registry.h"
+#include "render/framing.h"
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <cctype>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -306,6 +308,100 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     return o;
 }
 
+
+// "fit": {"view": NAME} or {"azimuth_deg": a, "elevation_deg": e}, with optional "objects",
+// "margin" and "method" (render/framing.h). Position and target are then computed, not given.
+void readFit(Reader& cam, CameraFitSpec& fit) {
+    Reader f = cam.child("fit");
+    fit.enabled = true;
+    fit.view = f.string("view", "",
+                        {"anterior", "posterior", "left", "right", "superior", "inferior"});
+    if (!fit.view.empty() && (f.has("azimuth_deg") || f.has("elevation_deg")))
+        f.fail(f.path(), "give either view or azimuth_deg/elevation_deg, not both");
+    fit.azimuthDeg = f.number("azimuth_deg", 0.0, -360.0, 360.0);
+    fit.elevationDeg = f.number("elevation_deg", 0.0, -90.0, 90.0);
+    if (f.has("objects")) {
+        const Json& o = f.raw("objects");
+        if (o.is_string()) {
+            fit.objects.push_back(o.get<std::string>());
+        } else {
+            if (!o.is_array() || o.empty())
+                f.fail(f.at("objects"), "expected an object's name or a non-empty array of names");
+            for (const Json& n : o) {
+                if (!n.is_string()) f.fail(f.at("objects"), "expected names (strings), got " + n.dump());
+                fit.objects.push_back(n.get<std::string>());
+            }
+        }
+    }
+    fit.margin = f.number("margin", 1.1, 0.1, 100.0);
+    fit.method = f.string("method", "box", {"box", "sphere"});
+    f.finish();
+    fit.upGiven = cam.has("up");
+    for (const char* key : {"position", "target"})
+        if (cam.has(key))
+            cam.fail(cam.at(key), "a fitted camera (camera.fit) computes position and target: give "
+                                  "either fit or position/target");
+}
+
+// A crop with unequal normalised extents would show a region of another aspect than the image
+// in the image, stretched (core/camera.cpp maps the crop onto the whole image).
+void checkCropAspect(const Reader& cam, const CropWindow& c) {
+    const double stretch = cropStretch(c);
+    if (std::abs(stretch - 1.0) <= 1e-3) return;
+    const double e = std::min(c.x1 - c.x0, c.y1 - c.y0);
+    const double cx = 0.5 * (c.x0 + c.x1), cy = 0.5 * (c.y0 + c.y1);
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "the window spans %.4g of the view's width and %.4g of its height: the image "
+                  "would be stretched %.4g times horizontally. A crop keeps the image's aspect "
+                  "only with x1 - x0 = y1 - y0, e.g. [%.4g, %.4g, %.4g, %.4g] (the same centre), "
+                  "or use \"zoom\"",
+                  c.x1 - c.x0, c.y1 - c.y0, stretch, cx - e / 2, cy - e / 2, cx + e / 2,
+                  cy + e / 2);
+    cam.fail(cam.at("crop"), buf);
+}
+
+// "zoom": {"point": [x, y, z], "size": s} or {"box": [[x0, y0, z0], [x1, y1, z1]], "margin": m}
+// in world coordinates (render/framing.h, zoomCrop).
+void readZoom(Reader z, ZoomSpec& zoom) {
+    if (z.has("point") == z.has("box"))
+        z.fail(z.path(), "give either point (with size) or box");
+    if (z.has("point")) {
+        zoom.kind = ZoomSpec::Kind::Point;
+        zoom.center = z.vec3("point", Vec3(0));
+        if (!z.has("size")) z.fail(z.at("size"), "missing (the width of the close-up in world units)");
+        zoom.size = z.number("size", 1.0, 1e-9, 1e12);
+    } else {
+        zoom.kind = ZoomSpec::Kind::Box;
+        const Json& b = z.raw("box");
+        if (!b.is_array() || b.size() != 2)
+            z.fail(z.at("box"), "expected two corners [[x0, y0, z0], [x1, y1, z1]]");
+        const auto a = z.numbers(b[0], z.at("box") + "[0]", 3);
+        const auto c = z.numbers(b[1], z.at("box") + "[1]", 3);
+        zoom.lo = Vec3(std::min(a[0], c[0]), std::min(a[1], c[1]), std::min(a[2], c[2]));
+        zoom.hi = Vec3(std::max(a[0], c[0]), std::max(a[1], c[1]), std::max(a[2], c[2]));
+        if (zoom.lo == zoom.hi) z.fail(z.at("box"), "the two corners are the same point");
+        zoom.margin = z.number("margin", 1.1, 1.0, 100.0);
+    }
+    z.finish();
+}
+
+// "lights": {"rig": "headlight" | "paper", "irradiance": E, "angle_deg": a, "behind": b}
+// (render/framing.h, lightRig).
+void readLightRig(Reader l, LightRigSpec& rig) {
+    if (!l.has("rig")) l.fail(l.at("rig"), "missing (headlight or paper; or give an array of lights)");
+    rig.rig = l.string("rig", "", {"headlight", "paper"});
+    rig.irradiance = l.bands("irradiance", Spectrum(1.0), 0.0, 1e12);
+    if (rig.rig == "paper") {
+        rig.angleDeg = l.number("angle_deg", 0.0, 0.0, 89.0);
+        rig.behind = l.number("behind", rig.behind, 0.0, 100.0);
+    } else {
+        for (const char* key : {"angle_deg", "behind"})
+            if (l.has(key)) l.fail(l.at(key), "applies to the paper rig only");
+    }
+    l.finish();
+}
+
 }  // namespace
 
 SceneSpec parseScene(const std::string& text, const std::string& baseDir, const std::string& name) {
@@ -375,6 +471,7 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     if (!r.has("camera")) r.fail("camera", "missing");
     {
         Reader cam = r.child("camera");
+        if (cam.has("fit")) readFit(cam, scene.fit);
         scene.cameraPosition = cam.vec3("position", scene.cameraPosition);
         scene.cameraTarget = cam.vec3("target", scene.cameraTarget);
         scene.cameraUp = cam.vec3("up", scene.cameraUp);
@@ -385,18 +482,30 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
             if (!(c[0] >= 0 && c[2] <= 1 && c[1] >= 0 && c[3] <= 1 && c[0] < c[2] && c[1] < c[3]))
                 cam.fail(cam.at("crop"), "expected [x0, y0, x1, y1] with 0 <= x0 < x1 <= 1 and "
                                          "0 <= y0 < y1 <= 1");
+            checkCropAspect(cam, scene.crop);
+        }
+        if (cam.has("zoom")) {
+            if (cam.has("crop")) cam.fail(cam.at("zoom"), "give either zoom or crop, not both");
+            readZoom(cam.child("zoom"), scene.zoom);
         }
         cam.finish();
-        try {  // the camera's own checks (position = target, up parallel to the view)
-            PinholeCamera(scene.cameraPosition, scene.cameraTarget, scene.cameraUp,
-                          scene.fovDegrees, double(scene.width) / scene.height, scene.crop);
-        } catch (const Error& e) {
-            r.fail("camera", e.what());
+        if (!scene.fit.enabled) {
+            try {  // the camera's own checks (position = target, up parallel to the view)
+                PinholeCamera(scene.cameraPosition, scene.cameraTarget, scene.cameraUp,
+                              scene.fovDegrees, double(scene.width) / scene.height, scene.crop);
+            } catch (const Error& e) {
+                r.fail("camera", e.what());
+            }
+        } else if (!(scene.cameraUp.length() > 0.0)) {
+            cam.fail(cam.at("up"), "must not be the zero vector");
         }
     }
-    if (r.has("lights")) {
+    if (r.has("lights") && r.raw("lights").is_object()) {
+        readLightRig(r.child("lights"), scene.lightRig);
+    } else if (r.has("lights")) {
         const Json& lights = r.raw("lights");
-        if (!lights.is_array()) r.fail("lights", "expected an array");
+        if (!lights.is_array())
+            r.fail("lights", "expected an array of lights or a rig ({\"rig\": \"paper\"})");
         // Every light is evaluated at every shaded point: 600 000 lights made a render that
         // never ends. The paper uses 4.
         if (lights.size() > kMaxLights)
@@ -440,6 +549,16 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     for (size_t i = 0; i < objects.size(); ++i)
         scene.objects.push_back(
             readObject(Reader(objects[i], "objects[" + std::to_string(i) + "]", name), baseDir));
+    for (const std::string& wanted : scene.fit.objects) {
+        std::string names;
+        bool found = false;
+        for (const ObjectSpec& o : scene.objects) {
+            found = found || o.name == wanted;
+            names += (names.empty() ? "" : ", ") + o.name;
+        }
+        if (!found)
+            r.fail("camera.fit.objects", "no object is named '" + wanted + "' (objects: " + names + ")");
+    }
     r.finish();
     return scene;
 }

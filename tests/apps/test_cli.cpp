@@ -565,4 +565,62 @@ TEST(Cli, ConvertThenInfoRoundTrips) {
     EXPECT_NE(r.exitCode, 0);
 }
 
+
+// ---- framing (render/framing.h) -------------------------------------------------------------
+
+// A fitted scene prints its computed camera and lights; --orbit N writes N numbered frames and
+// their contact sheet, and a bad framing key writes nothing.
+TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
+    const fs::path d = testDir();
+    std::string text = readFile(kSource + "/assets/scenes/framing/brain-left.json");
+    for (size_t p; (p = text.find("\"../../")) != std::string::npos;)
+        text.replace(p, 7, "\"" + kSource + "/assets/");
+    const fs::path scene = d / "brain-left.json";
+    std::ofstream(scene) << text;
+    CliRun r = lobe("render " + quote(scene.string()) + " --orbit 3 --width 16 --spp 1 --quiet --out " +
+                    quote((d / "out").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* name : {"brain-left-orbit-000", "brain-left-orbit-001", "brain-left-orbit-002"}) {
+        EXPECT_TRUE(fs::exists(d / "out" / (std::string(name) + ".exr"))) << name;
+        EXPECT_TRUE(fs::exists(d / "out" / (std::string(name) + ".png"))) << name;
+    }
+    EXPECT_FALSE(fs::exists(d / "out" / "brain-left-orbit-003.exr"));
+    EXPECT_FALSE(fs::exists(d / "out" / "brain-left.exr"));
+    EXPECT_TRUE(fs::exists(d / "out" / "contact-sheet-brain-left-orbit.png"));
+    EXPECT_NE(r.out.find("0 deg: fitted view:\n\"camera\": {\"position\": ["), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("\"lights\": [\n  {\"position\": "), std::string::npos) << r.out;
+    // An unknown object to fit: one error naming the key, nothing written.
+    const size_t p = text.find("\"objects\": [\"cortex\"]");
+    ASSERT_NE(p, std::string::npos);
+    text.replace(p, 21, "\"objects\": [\"cortx\"]");
+    std::ofstream(scene) << text;
+    r = lobe("render " + quote(scene.string()) + " --width 16 --spp 1 --quiet --out " +
+             quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("camera.fit.objects: no object is named 'cortx'"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / "bad"));
+    // A close-up outside the fitted view, second in a batch: found (and by --check) before the
+    // first scene renders.
+    text.replace(p, 20, "\"objects\": [\"cortex\"]");  // "cortx" is 20 characters
+    std::ofstream(scene) << text;
+    std::string far = text;
+    const size_t c = far.find("\"fov_deg\": 30");
+    ASSERT_NE(c, std::string::npos);
+    far.insert(c, "\"zoom\": {\"point\": [0, 2000, 0], \"size\": 10}, ");
+    std::ofstream(d / "far.json") << far;
+    const std::string batch = quote(scene.string()) + " " + quote((d / "far.json").string());
+    r = lobe("render " + batch + " --width 16 --spp 1 --quiet --out " + quote((d / "bad").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("far.json: camera.zoom: the zoom's centre is outside the view"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / "bad"));
+    r = lobe("render " + batch + " --check");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("far.json: camera.zoom:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("1 of 2 scenes have errors"), std::string::npos) << r.err;
+}
+
 }  // namespace
