@@ -48,6 +48,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     FrontToBackCompositor out(spec.terminationTransmittance);
 
     const size_t nv = volumeObjects.size();
+    CostCounters* cost = st.cost.enabled ? &st.cost : nullptr;  // `lobe cost` only
+    const double tBegin = cost && nv > 0 ? steadySeconds() : 0.0;
     for (size_t i = 0; i < nv; ++i) {
         // Each volume gets its own jitter (a fixed irrational offset), so coincident lattices of
         // volumes sharing a grid do not sample the same depths.
@@ -55,11 +57,11 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         st.samplers[i].begin(ray, xi - std::floor(xi));
         st.hasPending[i] = 0;
     }
+    if (cost && nv > 0) cost->volumeSeconds += steadySeconds() - tBegin;  // clipping, lattice set-up
     // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not seen.
     double tBackdrop = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
     if (tBackdrop > ray.tMax) tBackdrop = kInf;
     const Vec3 toViewer = -ray.d;
-    CostCounters* cost = st.cost.enabled ? &st.cost : nullptr;  // `lobe cost` only
 
     // Composites every volume sample with t < tEnd in depth order; false once opaque.
     auto volumesUpTo = [&](double tEnd) {

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <ctime>
 
+#include <pthread.h>
+
 namespace lobe {
 
 ObjectCost& ObjectCost::operator+=(const ObjectCost& o) {
@@ -19,18 +21,44 @@ void CostCounters::enable(int objectCount) {
     objects.resize(size_t(std::max(objectCount, 0)));
 }
 
+namespace {
+double seconds(clockid_t clock, bool& valid) {
+    timespec ts{};
+    if (!valid || clock_gettime(clock, &ts) != 0) {
+        valid = false;
+        return 0.0;
+    }
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+}  // namespace
+
+void CostCounters::start() {
+    started_ = true;
+    clockValid_ = pthread_getcpuclockid(pthread_self(), &clock_) == 0;
+    cpuStart_ = seconds(clock_, clockValid_);
+}
+
+void CostCounters::stop() {
+    const double now = seconds(clock_, clockValid_);
+    // Without a CPU clock (it cannot fail on Linux): wall time stands for it.
+    cpuSeconds = clockValid_ ? now - cpuStart_ : pixelSeconds;
+}
+
 void RenderCost::add(const CostCounters& t) {
     // The thread's CPU share of its wall time in the pixel loop, applied to the phases timed
-    // inside it (preemption is taken to hit every phase alike).
-    const double toCpu = t.pixelSeconds > 0.0 ? t.pixelCpuSeconds / t.pixelSeconds : 1.0;
-    const double shade = t.surfaceShadingSeconds + t.volumeShadingSeconds;
-    surfaces += t.surfaceSeconds * toCpu;
-    volumes += std::max(0.0, t.volumeSeconds - t.volumeShadingSeconds) * toCpu;
-    shading += shade * toCpu;
-    const double timed = t.surfaceSeconds + std::max(t.volumeSeconds, t.volumeShadingSeconds) +
-                         t.surfaceShadingSeconds;
-    other += std::max(0.0, t.pixelSeconds - timed) * toCpu;
-    cpuSeconds += std::max(t.pixelSeconds, timed) * toCpu;
+    // inside it (preemption is taken to hit every phase alike). The thread's CPU time beyond its
+    // pixels (tile hand-out, waiting for the last tiles) counts as other.
+    const double toCpu =
+        t.pixelSeconds > 0.0 ? std::min(1.0, t.cpuSeconds / t.pixelSeconds) : 1.0;
+    const double surf = t.surfaceSeconds * toCpu;
+    const double vol = std::max(0.0, t.volumeSeconds - t.volumeShadingSeconds) * toCpu;
+    const double shade = (t.surfaceShadingSeconds + t.volumeShadingSeconds) * toCpu;
+    surfaces += surf;
+    volumes += vol;
+    shading += shade;
+    const double thread = std::max(t.cpuSeconds, surf + vol + shade);
+    other += thread - (surf + vol + shade);
+    cpuSeconds += thread;
     if (objects.size() < t.objects.size()) objects.resize(t.objects.size());
     for (size_t i = 0; i < t.objects.size(); ++i) {
         ObjectCost o = t.objects[i];
@@ -49,11 +77,4 @@ double steadySeconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
         .count();
 }
-
-double threadCpuSeconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
 }  // namespace lobe

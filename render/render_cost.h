@@ -15,13 +15,15 @@
 //    sample — the BRDF evaluations and the light loop around them (frame, directions, 1/d²);
 //  - other: the rest of the pixel loop (camera rays, compositing, the backdrop, the timers).
 // Phases are timed with the steady clock (one pair of reads per surface query, per volume segment
-// and per shaded point, never per BRDF call) and the pixel loop's time with both the steady clock
-// and the thread's CPU clock; each thread's phase times are scaled by its CPU/wall ratio, so on a
-// loaded machine a thread's preempted time is not counted as work. An object's cost is the
+// and per shaded point, never per BRDF call), and so is each pixel. The thread's CPU clock is read
+// only at its first pixel and after the render (a read costs 2-5 µs on a virtual machine's
+// kvm-clock, against ~50 ns for the steady clock): each thread's phase times are scaled by its
+// CPU/(pixel wall) ratio, so on a loaded machine a thread's preempted time is not counted as work. An object's cost is the
 // shading time of its points; "ns per evaluation" divides it by its BRDF evaluations, so it is
 // the cost of one (point, light) pair of the light loop with that object's model.
 #pragma once
 
+#include <ctime>
 #include <vector>
 
 namespace lobe {
@@ -45,10 +47,19 @@ struct CostCounters {
     double volumeShadingSeconds = 0.0; // of which shading
     double surfaceShadingSeconds = 0.0;
     double pixelSeconds = 0.0;         // the pixel loop, steady clock
-    double pixelCpuSeconds = 0.0;      // the pixel loop, this thread's CPU clock
+    double cpuSeconds = 0.0;           // this thread's CPU time from its first pixel to stop()
     std::vector<ObjectCost> objects;   // by SceneSpec::objects index
 
     void enable(int objectCount);
+    // start() on the thread, at its first pixel; stop() from any thread once the render is done.
+    bool started() const { return started_; }
+    void start();
+    void stop();
+
+private:
+    bool started_ = false, clockValid_ = false;
+    clockid_t clock_{};
+    double cpuStart_ = 0.0;
 };
 
 // A whole render's cost: CPU seconds by part (they sum to cpuSeconds) and per object.
@@ -63,8 +74,7 @@ struct RenderCost {
     long long brdfEvaluations() const;
 };
 
-// Seconds of a monotonic clock (steady_clock) and of the calling thread's CPU clock.
+// Seconds of a monotonic clock (steady_clock).
 double steadySeconds();
-double threadCpuSeconds();
 
 }  // namespace lobe

@@ -88,8 +88,8 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
                  [&](const PixelSamples& samples) {
                      TraceState& st = states.local();
                      // With options.cost the pixel is timed, for its thread's CPU/wall ratio.
+                     if (options.cost && !st.cost.started()) st.cost.start();
                      const double wall0 = options.cost ? steadySeconds() : 0.0;
-                     const double cpu0 = options.cost ? threadCpuSeconds() : 0.0;
                      if (!withAovs) {
                          film.at(samples.x(), samples.y()) =
                              pixelValue(scene_, integrator_, samples, st, stats.local());
@@ -101,15 +101,15 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
                                          size_t(samples.y()) * spec.width + size_t(samples.x()),
                                          *aovs);
                      }
-                     if (options.cost) {
-                         st.cost.pixelCpuSeconds += threadCpuSeconds() - cpu0;
-                         st.cost.pixelSeconds += steadySeconds() - wall0;
-                     }
+                     if (options.cost) st.cost.pixelSeconds += steadySeconds() - wall0;
                  });
     if (options.cost) {
         *options.cost = RenderCost();
         options.cost->objects.resize(size_t(objectCount));
-        for (const TraceState& st : states) options.cost->add(st.cost);
+        for (TraceState& st : states) {
+            st.cost.stop();
+            options.cost->add(st.cost);
+        }
         options.cost->wallSeconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
