@@ -4,6 +4,7 @@
 // with one progress display over the whole batch, and writes a contact sheet per scene group.
 #include "apps/commands.h"
 #include "apps/contact_sheet.h"
+#include "apps/cost_report.h"
 #include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
 #include "render/framing.h"
@@ -45,6 +46,7 @@ struct RenderCommand {
     bool keepGoing = false;     // a failing scene is reported and the batch goes on
     std::string shard;          // "i/N": render part i of N (array jobs; `lobe merge` joins)
     int orbit = 0;              // --orbit N: each scene as N turntable frames (render/framing.h)
+    bool stats = false;         // print CPU time by part and BRDF evaluations per object
 };
 
 // --shard i/N → (i, N); N = 0 when not sharding.
@@ -182,7 +184,7 @@ std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
 // of an mpirun; on rank 0 the result holds every process's pixels.
 Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovRequest& aov,
                   AovImage& aovs, RenderStats* stats, ProgressReporter* progress, int y0 = 0,
-                  int y1 = -1) {
+                  int y1 = -1, RenderCost* cost = nullptr) {
     const std::unique_ptr<TileSource> tiles = cluster::sharedTiles();
     RenderOptions options;
     options.threads = cmd.threads;
@@ -191,6 +193,7 @@ Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovR
     options.rowBegin = y0;
     options.rowEnd = y1;
     options.tileSource = tiles.get();
+    options.cost = cost;
     Film film = scene.render(options, stats, &aov, &aovs);
     cluster::gatherTiles(*tiles, film.width(), pixelBuffers(film, aovs));
     return film;
@@ -334,7 +337,10 @@ void runRender(const RenderCommand& cmd) {
                             frozenViewJson(scene->spec()).c_str());
             RenderStats stats;
             AovImage aovs;
-            const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress);
+            RenderCost cost;  // --stats (a process's own share under mpirun: not printed)
+            const bool withCost = cmd.stats && !cluster::distributed();
+            const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress, 0, -1,
+                                           withCost ? &cost : nullptr);
             if (!root) continue;
             const ImageChannels extra = passChannels(aov, aovs, spec);
             RgbImage rgb = filmToRgb(film, spec.exposure);
@@ -357,6 +363,11 @@ void runRender(const RenderCommand& cmd) {
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                              spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
                              stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
+            if (withCost) {
+                std::fflush(stderr);
+                std::printf("%s: %s", spec.title.c_str(), costSummary(spec, cost).c_str());
+                std::fflush(stdout);
+            }
             if (inSheet) sheets[spec.group].push_back({rgb, spec.title});
         } catch (const cluster::CollectiveError& e) {
             // A scene that failed to load on some process: every process skips it.
@@ -544,6 +555,9 @@ void registerRenderCommand(CLI::App& app) {
                     "writes NAME-orbit-000.exr/.png ... and contact-sheet-NAME-orbit.png")
         ->check(CLI::Range(1, 3600));
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
+    sub->add_flag("--stats", cmd.stats,
+                  "after each scene, print its CPU time by part and each object's BRDF "
+                  "evaluations and shading time (as `lobe cost`; docs/cost.md)");
     sub->callback([] { runRender(cmd); });
 
     static RenderCommand merge;

@@ -17,5 +17,6 @@ void registerInfoCommand(CLI::App& app);
 void registerConvertCommand(CLI::App& app);
 void registerSeparationCommand(CLI::App& app);
 void registerAssignCommand(CLI::App& app);
+void registerCostCommand(CLI::App& app);
 
 }  // namespace lobe

@@ -39,6 +39,7 @@ int run(int argc, char** argv) {
     lobe::registerOverlapCommand(app);
     lobe::registerSeparationCommand(app);
     lobe::registerAssignCommand(app);
+    lobe::registerCostCommand(app);
     lobe::registerInfoCommand(app);
     lobe::registerConvertCommand(app);
 

@@ -48,6 +48,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     FrontToBackCompositor out(spec.terminationTransmittance);
 
     const size_t nv = volumeObjects.size();
+    CostCounters* cost = st.cost.enabled ? &st.cost : nullptr;  // `lobe cost` only
+    const double tBegin = cost && nv > 0 ? steadySeconds() : 0.0;
     for (size_t i = 0; i < nv; ++i) {
         // Each volume gets its own jitter (a fixed irrational offset), so coincident lattices of
         // volumes sharing a grid do not sample the same depths.
@@ -55,6 +57,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         st.samplers[i].begin(ray, xi - std::floor(xi));
         st.hasPending[i] = 0;
     }
+    if (cost && nv > 0) cost->volumeSeconds += steadySeconds() - tBegin;  // clipping, lattice set-up
     // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not seen.
     double tBackdrop = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
     if (tBackdrop > ray.tMax) tBackdrop = kInf;
@@ -103,7 +106,17 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                 if (s.hasNormal)
                     point.frame = Frame::fromNormalAndAxis(s.normal, vo.tangent.axis,
                                                            vo.tangent.fallback);
-                L = lobe::shade(point, toViewer, spec.lights);
+                if (!cost) {
+                    L = lobe::shade(point, toViewer, spec.lights);
+                } else {
+                    ObjectCost& oc = cost->objects[size_t(vo.objectIndex)];
+                    const double t0 = steadySeconds();
+                    L = lobe::shade(point, toViewer, spec.lights, oc.brdfEvaluations);
+                    const double dt = steadySeconds() - t0;
+                    cost->volumeShadingSeconds += dt;
+                    oc.shadingSeconds += dt;
+                    ++oc.shadedPoints;
+                }
                 const double scale = weight < w0 ? w0 / weight : 1.0;
                 if (weight < w0) L *= scale;
                 ++stats.volumeShaded;
@@ -125,9 +138,16 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     segment.tMax = std::min(ray.tMax, tBackdrop);
     for (int hits = 0;; ++hits) {
         std::optional<SurfaceHit> hit;
+        const double t0 = cost ? steadySeconds() : 0.0;
         if (surfaces && hits < kMaxSurfaceHits) hit = surfaces->intersect(segment);
+        const double t1 = cost ? steadySeconds() : 0.0;
         const double tEnd = hit ? hit->t : std::min(tBackdrop, kInf);
-        if (!volumesUpTo(tEnd)) return out.radiance;
+        const bool open = volumesUpTo(tEnd);
+        if (cost) {
+            cost->surfaceSeconds += t1 - t0;
+            if (nv > 0) cost->volumeSeconds += steadySeconds() - t1;
+        }
+        if (!open) return out.radiance;
         if (!hit) break;
         ++stats.surfaceHits;
         const SceneSurface& so = scene_.surfaceObjects()[hit->objectId];
@@ -137,7 +157,18 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         point.highlight = so.spec->highlightTakesLight ? Spectrum(1.0) : so.spec->color;
         point.position = hit->position;
         point.frame = Frame::fromNormalAndAxis(hit->normal, so.tangent.axis, so.tangent.fallback);
-        const Spectrum L = shade(point, toViewer, spec.lights);
+        Spectrum L;
+        if (!cost) {
+            L = shade(point, toViewer, spec.lights);
+        } else {
+            ObjectCost& oc = cost->objects[size_t(so.objectIndex)];
+            const double t0 = steadySeconds();
+            L = shade(point, toViewer, spec.lights, oc.brdfEvaluations);
+            const double dt = steadySeconds() - t0;
+            cost->surfaceShadingSeconds += dt;
+            oc.shadingSeconds += dt;
+            ++oc.shadedPoints;
+        }
         if (sink)
             sink->onEvent({so.objectIndex, hit->t, so.spec->opacity, out.transmittance,
                            out.transmittance * so.spec->opacity, &point, L});

@@ -12,6 +12,7 @@
 
 #include "core/ray.h"
 #include "core/spectrum.h"
+#include "render/render_cost.h"
 #include "volume/volume_marcher.h"
 
 #include <vector>
@@ -42,6 +43,7 @@ struct TraceState {
     std::vector<VolumeRaySampler> samplers;
     std::vector<VolumeSample> pending;
     std::vector<char> hasPending;
+    CostCounters cost;  // counted and timed only when enabled (render/render_cost.h)
 };
 
 struct ShadingPoint;

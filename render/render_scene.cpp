@@ -61,10 +61,14 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
               spec.path + ": a " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
                   " image");
     Film film(spec.width, spec.height);
-    tbb::enumerable_thread_specific<TraceState> states([&] { return integrator_.newState(); });
+    const int objectCount = int(spec.objects.size());
+    tbb::enumerable_thread_specific<TraceState> states([&] {
+        TraceState st = integrator_.newState();
+        if (options.cost) st.cost.enable(objectCount);
+        return st;
+    });
     tbb::enumerable_thread_specific<RenderStats> stats;
     const bool withAovs = aov && aovs && aov->any();
-    const int objectCount = int(spec.objects.size());
     if (withAovs) *aovs = makeAovImage(*aov, spec.width, spec.height, objectCount);
     static const AovRequest kNoPasses;
     const AovRequest& request = withAovs ? *aov : kNoPasses;
@@ -82,17 +86,33 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     scheduler.tileSource = options.tileSource;
     forEachPixel(film.width(), film.height(), samplingOf(spec), scheduler,
                  [&](const PixelSamples& samples) {
+                     TraceState& st = states.local();
+                     // With options.cost the pixel is timed, for its thread's CPU/wall ratio.
+                     if (options.cost && !st.cost.started()) st.cost.start();
+                     const double wall0 = options.cost ? steadySeconds() : 0.0;
                      if (!withAovs) {
-                         film.at(samples.x(), samples.y()) = pixelValue(
-                             scene_, integrator_, samples, states.local(), stats.local());
-                         return;
+                         film.at(samples.x(), samples.y()) =
+                             pixelValue(scene_, integrator_, samples, st, stats.local());
+                     } else {
+                         AovAccumulator& acc = accumulators.local();
+                         film.at(samples.x(), samples.y()) =
+                             pixelValue(scene_, integrator_, samples, st, stats.local(), &acc);
+                         acc.finishPixel(samples.count(),
+                                         size_t(samples.y()) * spec.width + size_t(samples.x()),
+                                         *aovs);
                      }
-                     AovAccumulator& acc = accumulators.local();
-                     film.at(samples.x(), samples.y()) = pixelValue(
-                         scene_, integrator_, samples, states.local(), stats.local(), &acc);
-                     acc.finishPixel(samples.count(),
-                                     size_t(samples.y()) * spec.width + size_t(samples.x()), *aovs);
+                     if (options.cost) st.cost.pixelSeconds += steadySeconds() - wall0;
                  });
+    if (options.cost) {
+        *options.cost = RenderCost();
+        options.cost->objects.resize(size_t(objectCount));
+        for (TraceState& st : states) {
+            st.cost.stop();
+            options.cost->add(st.cost);
+        }
+        options.cost->wallSeconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
     if (statsOut) {
         *statsOut = RenderStats();
         for (const RenderStats& s : stats) *statsOut += s;

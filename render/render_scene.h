@@ -24,6 +24,9 @@ struct RenderOptions {
     ProgressReporter* sharedProgress = nullptr;  // see core/tile_scheduler.h
     int rowBegin = 0, rowEnd = -1;               // render only these rows (a shard; others 0)
     TileSource* tileSource = nullptr;            // tiles shared with other processes (core/cluster.h)
+    // When set, the render also counts BRDF evaluations per object and times its parts into
+    // *cost (render/render_cost.h); the image is the same with or without.
+    RenderCost* cost = nullptr;
 };
 
 class RenderScene {

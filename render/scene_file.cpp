@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "core/nearest_name.h"
 #include "materials/registry.h"
 #include "render/framing.h"
 
@@ -39,7 +40,10 @@ public:
         throw Error(file_ + ": " + (at.empty() ? "top level" : at) + ": " + what);
     }
     std::string at(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-    bool has(const std::string& key) const { return j_.contains(key); }
+    bool has(const std::string& key) const {
+        asked_.insert(key);  // every key the reader looks for: the suggestions for a typo
+        return j_.contains(key);
+    }
 
     const Json& raw(const std::string& key) {
         used_.insert(key);
@@ -124,7 +128,11 @@ public:
     // Call when done: every key not consumed is an error.
     void finish() const {
         for (auto it = j_.begin(); it != j_.end(); ++it)
-            if (!used_.count(it.key())) fail(at(it.key()), "unknown key");
+            if (!used_.count(it.key())) {
+                const std::string near = nearestName(it.key(), asked_);
+                fail(at(it.key()), "unknown key" + (near.empty() ? std::string()
+                                                                 : " (did you mean '" + near + "'?)"));
+            }
     }
     const std::string& file() const { return file_; }
     const std::string& path() const { return path_; }
@@ -139,6 +147,7 @@ private:
     std::string path_;
     const std::string& file_;
     std::set<std::string> used_;
+    mutable std::set<std::string> asked_;
 };
 
 std::string resolvePath(const std::string& p, const std::string& baseDir) {

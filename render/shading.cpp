@@ -2,18 +2,79 @@
 
 namespace lobe {
 
-Spectrum directLighting(const Material& material, const Frame& frameIn, const Vec3& position,
-                        const Vec3& toViewer, const std::vector<PointLight>& lights,
-                        bool twoSided) {
+namespace {
+
+// The light loops of directLighting and shadeTerms; onEvaluation() is called once per BRDF
+// evaluation (a no-op except for `lobe cost`'s counting).
+template <class OnEvaluation>
+Spectrum directLightingImpl(const Material& material, const Frame& frameIn, const Vec3& position,
+                            const Vec3& toViewer, const std::vector<PointLight>& lights,
+                            bool twoSided, OnEvaluation&& onEvaluation) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     Spectrum radiance;
     forEachLightInFrame(lights, frame, position, toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            onEvaluation();
                             Spectrum f = material.kd * kInvPi;
                             if (material.specularOn) f += evalBrdf(material.specular, wi, wo);
                             radiance += f * light.intensity * g;
                         });
     return radiance;
+}
+
+template <class OnEvaluation>
+ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
+                            const std::vector<PointLight>& lights, OnEvaluation&& onEvaluation);
+
+template <class OnEvaluation>
+Spectrum shadeImpl(const ShadingPoint& point, const Vec3& toViewer,
+                   const std::vector<PointLight>& lights, OnEvaluation&& onEvaluation) {
+    if (point.hasFrame) {
+        if (point.highlight == point.colour)
+            return point.colour * directLightingImpl(*point.material, point.frame, point.position,
+                                                     toViewer, lights, true, onEvaluation);
+        const ShadingTerms terms = shadeTermsImpl(point, toViewer, lights, onEvaluation);
+        return terms.lambert + terms.specular;
+    }
+    Spectrum radiance;
+    forEachLight(lights, point.position, [&](const PointLight& light, const Vec3&, double d2) {
+        radiance += point.material->kd * kInvPi * light.intensity * (1.0 / d2);
+    });
+    return point.colour * radiance;
+}
+
+template <class OnEvaluation>
+ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
+                            const std::vector<PointLight>& lights, OnEvaluation&& onEvaluation) {
+    const Material& m = *point.material;
+    ShadingTerms terms;
+    if (!point.hasFrame) {
+        terms.lambert = shadeImpl(point, toViewer, lights, onEvaluation);
+        return terms;
+    }
+    const Frame frame = facingViewer(point.frame, toViewer);
+    forEachLightInFrame(lights, frame, point.position, toViewer,
+                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            onEvaluation();
+                            terms.lambert += m.kd * kInvPi * light.intensity * g;
+                            if (m.specularOn)
+                                terms.specular += evalBrdf(m.specular, wi, wo) * light.intensity * g;
+                        });
+    terms.lambert = point.colour * terms.lambert;
+    terms.specular = point.highlight * terms.specular;
+    return terms;
+}
+
+struct NoCount {
+    void operator()() const {}
+};
+
+}  // namespace
+
+Spectrum directLighting(const Material& material, const Frame& frameIn, const Vec3& position,
+                        const Vec3& toViewer, const std::vector<PointLight>& lights,
+                        bool twoSided) {
+    return directLightingImpl(material, frameIn, position, toViewer, lights, twoSided, NoCount{});
 }
 
 Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
@@ -31,38 +92,17 @@ Spectrum shadeVolumeSample(const Material& material, const VolumeSample& sample,
 
 Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
                const std::vector<PointLight>& lights) {
-    if (point.hasFrame) {
-        if (point.highlight == point.colour)
-            return point.colour * directLighting(*point.material, point.frame, point.position,
-                                                 toViewer, lights, true);
-        const ShadingTerms terms = shadeTerms(point, toViewer, lights);
-        return terms.lambert + terms.specular;
-    }
-    Spectrum radiance;
-    forEachLight(lights, point.position, [&](const PointLight& light, const Vec3&, double d2) {
-        radiance += point.material->kd * kInvPi * light.intensity * (1.0 / d2);
-    });
-    return point.colour * radiance;
+    return shadeImpl(point, toViewer, lights, NoCount{});
+}
+
+Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
+               const std::vector<PointLight>& lights, long long& brdfEvaluations) {
+    return shadeImpl(point, toViewer, lights, [&] { ++brdfEvaluations; });
 }
 
 ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
                         const std::vector<PointLight>& lights) {
-    const Material& m = *point.material;
-    ShadingTerms terms;
-    if (!point.hasFrame) {
-        terms.lambert = shade(point, toViewer, lights);
-        return terms;
-    }
-    const Frame frame = facingViewer(point.frame, toViewer);
-    forEachLightInFrame(lights, frame, point.position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
-                            terms.lambert += m.kd * kInvPi * light.intensity * g;
-                            if (m.specularOn)
-                                terms.specular += evalBrdf(m.specular, wi, wo) * light.intensity * g;
-                        });
-    terms.lambert = point.colour * terms.lambert;
-    terms.specular = point.highlight * terms.specular;
-    return terms;
+    return shadeTermsImpl(point, toViewer, lights, NoCount{});
 }
 
 void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,

@@ -59,6 +59,11 @@ struct ShadingPoint {
 // of shadeVolumeSample.
 Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
                const std::vector<PointLight>& lights);
+// The same radiance (bit for bit), adding to `brdfEvaluations` the evaluations of the material's
+// BRDF it made: one per light above the surface, none without a frame. For `lobe cost`
+// (render/render_cost.h).
+Spectrum shade(const ShadingPoint& point, const Vec3& toViewer,
+               const std::vector<PointLight>& lights, long long& brdfEvaluations);
 
 // The same radiance split into the material's Lambertian and specular parts (their sum equals
 // shade() up to rounding), for per-object passes (render/aov.h).

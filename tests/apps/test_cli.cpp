@@ -17,6 +17,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
 
 namespace {
 
@@ -621,6 +622,113 @@ TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("far.json: camera.zoom:"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("1 of 2 scenes have errors"), std::string::npos) << r.err;
+}
+
+// ---- scene key typos ------------------------------------------------------------------------
+
+// An unknown key one or two edits from a key the reader looks for at that place is named with
+// it; a key far from every valid one gets no guess (RenderBadSceneWritesNothing: "isovalue").
+TEST(Cli, AnUnknownSceneKeySuggestsTheNearestValidOne) {
+    const fs::path d = testDir();
+    const struct {
+        std::string from, to, message;
+    } cases[] = {
+        {"\"iso\": 0.5", "\"iso\": 0.5, \"opactiy\": 1", "objects[0].opactiy: unknown key (did you mean 'opacity'?)"},
+        {"\"fov_deg\"", "\"fovdeg\"", "camera.fovdeg: unknown key (did you mean 'fov_deg'?)"},
+        // The model's own parameters are the candidates inside "brdf".
+        {"\"model\": \"ward\"", "\"model\": \"ward\", \"alpha_z\": 0.1",
+         "objects[0].brdf.alpha_z: unknown key (did you mean 'alpha_x'?)"},
+        {"\"iso\": 0.5", "\"iso\": 0.5, \"shininess\": 1", "objects[0].shininess: unknown key\n"},
+    };
+    for (const auto& c : cases) {
+        const std::string scene = sceneWith(d, c.from, c.to);
+        const CliRun r = lobe("render " + quote(scene) + " --check");
+        EXPECT_EQ(r.exitCode, 1) << c.to;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.to << ": " << r.err;
+    }
+}
+
+// ---- lobe cost and render --stats -------------------------------------------------------------
+
+// Fields of the CSV row of `run` and `name` (an object, a part or "cpu").
+std::vector<std::string> csvRow(const std::string& csv, const std::string& run, const std::string& row,
+                                const std::string& name) {
+    std::istringstream in(csv);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::vector<std::string> f;
+        std::stringstream ss(line);
+        std::string field;
+        while (std::getline(ss, field, ',')) f.push_back(field);
+        if (f.size() >= 3 && f[0] == run && f[1] == row && f[2] == name) return f;
+    }
+    ADD_FAILURE() << "no row " << run << "," << row << "," << name << " in\n" << csv;
+    return std::vector<std::string>(8);
+}
+
+// `lobe cost`: the tables, and the counts every run shares — a model swapped onto the cortex
+// evaluates at the same points with the same lights, the other objects are untouched, and
+// `render --stats` counts the same evaluations for the same settings.
+TEST(Cli, CostTablesAndEvaluationsAcrossModels) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    const std::string csv = (d / "cost.csv").string();
+    CliRun r = lobe("cost " + quote(scene) +
+                    " --width 24 --spp 1 --quiet --object cortex --models ward,he_torrance --csv " +
+                    quote(csv));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* text : {"| part | CPU s | share |", "| shading (BRDF + light loop) |",
+                             "| cortex | ashikhmin_shirley |", "### Models on 'cortex'",
+                             "| ashikhmin_shirley (scene) |", "| he_torrance |"})
+        EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
+    const std::string table = readFile(csv);
+    const auto own = csvRow(table, "scene", "object", "cortex");
+    EXPECT_EQ(own[3], "ashikhmin_shirley");
+    EXPECT_GT(std::stoll(own[5]), 0);
+    for (const char* model : {"ward", "he_torrance"}) {
+        const auto swapped = csvRow(table, model, "object", "cortex");
+        EXPECT_EQ(swapped[3], model);
+        EXPECT_EQ(swapped[4], own[4]) << model;  // shaded points
+        EXPECT_EQ(swapped[5], own[5]) << model;  // BRDF evaluations
+        EXPECT_EQ(csvRow(table, model, "object", "skull")[5], csvRow(table, "scene", "object", "skull")[5]);
+    }
+    // The objects' evaluations add up to the run's total.
+    long long sum = 0;
+    for (const char* o : {"skull", "cortex", "density map 0", "density map 1", "density map 2",
+                          "density map 3"})
+        sum += std::stoll(csvRow(table, "scene", "object", o)[5]);
+    EXPECT_EQ(std::to_string(sum), csvRow(table, "scene", "total", "cpu")[5]);
+
+    r = lobe("render " + quote(scene) + " --width 24 --spp 1 --quiet --stats --no-contact-sheets --out " +
+             quote((d / "out").string()));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("cortex (ashikhmin_shirley): " + own[5] + " BRDF evaluations"),
+              std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("shading"), std::string::npos) << r.out;
+}
+
+TEST(Cli, CostRefusesBadModelsAndObjectsBeforeRendering) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    const struct {
+        std::string args, message;
+    } cases[] = {
+        {"--models ward", "--models needs --object NAME: the scene has 6 objects (skull, cortex"},
+        {"--models ward --object nose", "has no object 'nose'"},
+        {"--models nosuch --object skull", "unknown BRDF model 'nosuch'"},
+        {"--object skull", "give --models too"},
+        {"--models , --object skull", "expected a comma list"},
+        {"--width 0", "--width"},
+    };
+    for (const auto& c : cases) {
+        const std::string csv = (d / "c.csv").string();
+        const CliRun r = lobe("cost " + quote(scene) + " --quiet --csv " + quote(csv) + " " + c.args);
+        EXPECT_EQ(r.exitCode, 1) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
+        EXPECT_EQ(r.errLines(), 1) << c.args << ": " << r.err;
+        EXPECT_TRUE(r.out.empty()) << c.args;
+        EXPECT_FALSE(fs::exists(csv)) << c.args;
+    }
 }
 
 }  // namespace
