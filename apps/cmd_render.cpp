@@ -4,6 +4,7 @@
 // with one progress display over the whole batch, and writes a contact sheet per scene group.
 #include "apps/commands.h"
 #include "apps/contact_sheet.h"
+#include "apps/figure_output.h"
 #include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
 #include "render/render_scene.h"
@@ -43,6 +44,7 @@ struct RenderCommand {
     bool skipExisting = false;  // resume: scenes whose EXR and PNG exist are not rendered again
     bool keepGoing = false;     // a failing scene is reported and the batch goes on
     std::string shard;          // "i/N": render part i of N (array jobs; `lobe merge` joins)
+    FigureOptions figure;       // -o, --exr, --png-bits, --background (apps/figure_output.h)
 };
 
 // --shard i/N → (i, N); N = 0 when not sharding.
@@ -169,7 +171,7 @@ std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
         {reinterpret_cast<unsigned char*>(film.data()), sizeof(Spectrum)}};
     const size_t pixels = size_t(film.width()) * size_t(film.height());
     for (std::vector<float>* pass : {&aovs.lambert, &aovs.specular, &aovs.backdrop, &aovs.depth,
-                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular})
+                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular, &aovs.alpha})
         if (!pass->empty())
             buffers.push_back({reinterpret_cast<unsigned char*>(pass->data()),
                                pass->size() / pixels * sizeof(float)});
@@ -220,10 +222,15 @@ void runRender(const RenderCommand& cmd) {
         std::tie(shardIndex, shardCount) = parseShard(cmd.shard);
         if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
         files = collectScenes(cmd);
+        cmd.figure.validate(files.size(), shardCount > 0);
         for (const std::string& f : files) {
             try {
                 SceneSpec spec = loadSceneFile(f);
                 cmd.overrides.apply(spec);
+                cmd.figure.apply(spec);
+                if (shardCount > 0 && spec.background.needsAlpha())
+                    throw Error(f + ": background " + spec.background.text +
+                                " needs the objects' coverage, which --shard parts do not keep yet");
                 const std::string base = outputBase(cmd, spec);
                 const auto [it, fresh] = writerOf.emplace(base, f);
                 if (!fresh)
@@ -255,7 +262,7 @@ void runRender(const RenderCommand& cmd) {
                 std::fprintf(stderr, "lobe: error: %s (skipped)\n", volumeErrors[k].c_str());
         }
         specs = std::move(loadable);
-        if (root && !cmd.check) createOutputFolder(cmd.outDir);
+        if (root && !cmd.check && cmd.figure.output.empty()) createOutputFolder(cmd.outDir);
     };
     if (cmd.check) {  // rank 0 alone (the others returned)
         validate();
@@ -286,7 +293,9 @@ void runRender(const RenderCommand& cmd) {
     for (size_t i = 0; i < specs.size(); ++i) {
         const SceneSpec& spec = specs[i];
         const std::string base = outputBase(cmd, spec);
-        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets && shardCount == 0;
+        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets && shardCount == 0 &&
+                             cmd.figure.output.empty();
+        const std::vector<std::string> outputs = cmd.figure.outputPaths(base);
         if (rowShards) {
             // Rows [y0, y1) of part i: floor(i·H/N) to floor((i+1)·H/N).
             const int y0 = int(int64_t(shardIndex) * spec.height / shardCount);
@@ -308,8 +317,9 @@ void runRender(const RenderCommand& cmd) {
                                          spec.title.c_str(), part.c_str());
             continue;
         }
-        if (cluster::broadcast(cmd.skipExisting && fs::exists(base + ".exr") &&
-                               fs::exists(base + ".png"))) {
+        if (cluster::broadcast(cmd.skipExisting &&
+                               std::all_of(outputs.begin(), outputs.end(),
+                                           [](const std::string& p) { return fs::exists(p); }))) {
             progress.advance(int64_t(spec.width) * spec.height);
             if (inSheet && root)
                 sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
@@ -320,31 +330,30 @@ void runRender(const RenderCommand& cmd) {
         try {
             std::unique_ptr<RenderScene> scene;
             cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
+            if (root) warnInvisibleObjects(*scene);
             RenderStats stats;
             AovImage aovs;
-            const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress);
+            AovRequest withAlpha = aov;  // the coverage, for the background and the empty check
+            withAlpha.alpha = true;
+            Film film = renderShared(*scene, cmd, withAlpha, aovs, &stats, &progress);
             if (!root) continue;
+            warnIfEmpty(spec, aovs.alpha);
             const ImageChannels extra = passChannels(aov, aovs, spec);
-            RgbImage rgb = filmToRgb(film, spec.exposure);
-            applyTone(rgb, spec.tone);
-            // Both written before either is put in place: a failed EXR after a good PNG (a full
-            // disk) leaves neither. EXR last: a resumed batch (--skip-existing) takes a scene as
-            // done only when both exist.
-            PendingImage png = writeImagePending(base + ".png", rgb);
-            PendingImage exr = writeFilmPending(base + ".exr", film, spec.exposure, extra);
-            png.commit();
-            exr.commit();
+            const FigureResult figure = writeFigure(cmd.figure, spec, base, film, aovs.alpha, extra);
+            const RgbImage& rgb = figure.display;
             if (!quiet && cluster::distributed())  // rank 0's counts are only its share
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
-                                     "%s.png/.exr\n",
+                                     "%s\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
-                             spec.samplesPerPixel, stats.seconds, cluster::size(), base.c_str());
+                             spec.samplesPerPixel, stats.seconds, cluster::size(),
+                             figure.written.c_str());
             else if (!quiet)
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
-                                     "samples (%.1f M shaded) -> %s.png/.exr\n",
+                                     "samples (%.1f M shaded) -> %s\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                              spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
-                             stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
+                             stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6,
+                             figure.written.c_str());
             if (inSheet) sheets[spec.group].push_back({rgb, spec.title});
         } catch (const cluster::CollectiveError& e) {
             // A scene that failed to load on some process: every process skips it.
@@ -526,6 +535,7 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--aov", cmd.aov,
                     "extra EXR passes: all, or a comma list of objects (each object's lambert and "
                     "specular contribution), backdrop, depth, normal, id (object contributing most)");
+    cmd.figure.addOptions(*sub);
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->callback([] { runRender(cmd); });
 
