@@ -448,10 +448,12 @@ void runMerge(const RenderCommand& cmd) {
                           part.channels.data.begin() + long(size_t(y1) * spec.width * k),
                           merged.channels.data.begin() + long(size_t(y0) * spec.width * k));
             }
-            merged.attributes.clear();
+            merged.attributes = provenance(spec);  // the shards' own tags go; the merge's come
             writeFloatImage(base + ".exr", merged);
             // The display image from the merged floats, as a single run makes it from its own.
-            writeImage(base + ".png", displayFromExr(base + ".exr", spec.tone));
+            ImageWriteOptions png;
+            png.attributes = merged.attributes;
+            writeImagePending(base + ".png", displayFromExr(base + ".exr", spec.tone), png).commit();
             if (!cmd.quiet)
                 std::fprintf(stderr, "%s: %d parts -> %s.exr/.png\n", spec.title.c_str(), count,
                              base.c_str());
