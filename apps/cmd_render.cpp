@@ -5,6 +5,7 @@
 #include "apps/commands.h"
 #include "apps/contact_sheet.h"
 #include "apps/cost_report.h"
+#include "apps/figure_output.h"
 #include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
 #include "render/framing.h"
@@ -47,6 +48,7 @@ struct RenderCommand {
     std::string shard;          // "i/N": render part i of N (array jobs; `lobe merge` joins)
     int orbit = 0;              // --orbit N: each scene as N turntable frames (render/framing.h)
     bool stats = false;         // print CPU time by part and BRDF evaluations per object
+    FigureOptions figure;       // -o, --exr, --png-bits, --background (apps/figure_output.h)
 };
 
 // --shard i/N → (i, N); N = 0 when not sharding.
@@ -173,7 +175,7 @@ std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
         {reinterpret_cast<unsigned char*>(film.data()), sizeof(Spectrum)}};
     const size_t pixels = size_t(film.width()) * size_t(film.height());
     for (std::vector<float>* pass : {&aovs.lambert, &aovs.specular, &aovs.backdrop, &aovs.depth,
-                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular})
+                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular, &aovs.alpha})
         if (!pass->empty())
             buffers.push_back({reinterpret_cast<unsigned char*>(pass->data()),
                                pass->size() / pixels * sizeof(float)});
@@ -225,10 +227,15 @@ void runRender(const RenderCommand& cmd) {
         std::tie(shardIndex, shardCount) = parseShard(cmd.shard);
         if (!cmd.aov.empty()) aov = AovRequest::parse(cmd.aov);
         files = collectScenes(cmd);
+        cmd.figure.validate(files.size() * size_t(std::max(cmd.orbit, 1)), shardCount > 0);
         for (const std::string& f : files) {
             try {
                 SceneSpec loaded = loadSceneFile(f);
                 cmd.overrides.apply(loaded);
+                cmd.figure.apply(loaded);
+                if (shardCount > 0 && loaded.background.needsAlpha())
+                    throw Error(f + ": background " + loaded.background.text +
+                                " needs the objects' coverage, which --shard parts do not keep yet");
                 for (SceneSpec& spec : orbitFrames(loaded, cmd.orbit)) {
                     const std::string base = outputBase(cmd, spec);
                     const auto [it, fresh] = writerOf.emplace(base, f);
@@ -267,7 +274,7 @@ void runRender(const RenderCommand& cmd) {
                 std::fprintf(stderr, "lobe: error: %s (skipped)\n", error.c_str());
         }
         specs = std::move(loadable);
-        if (root && !cmd.check) createOutputFolder(cmd.outDir);
+        if (root && !cmd.check && cmd.figure.output.empty()) createOutputFolder(cmd.outDir);
     };
     if (cmd.check) {  // rank 0 alone (the others returned)
         validate();
@@ -298,7 +305,9 @@ void runRender(const RenderCommand& cmd) {
     for (size_t i = 0; i < specs.size(); ++i) {
         const SceneSpec& spec = specs[i];
         const std::string base = outputBase(cmd, spec);
-        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets && shardCount == 0;
+        const bool inSheet = !spec.group.empty() && !cmd.noContactSheets && shardCount == 0 &&
+                             cmd.figure.output.empty();
+        const std::vector<std::string> outputs = cmd.figure.outputPaths(base);
         if (rowShards) {
             // Rows [y0, y1) of part i: floor(i·H/N) to floor((i+1)·H/N).
             const int y0 = int(int64_t(shardIndex) * spec.height / shardCount);
@@ -320,8 +329,9 @@ void runRender(const RenderCommand& cmd) {
                                          spec.title.c_str(), part.c_str());
             continue;
         }
-        if (cluster::broadcast(cmd.skipExisting && fs::exists(base + ".exr") &&
-                               fs::exists(base + ".png"))) {
+        if (cluster::broadcast(cmd.skipExisting &&
+                               std::all_of(outputs.begin(), outputs.end(),
+                                           [](const std::string& p) { return fs::exists(p); }))) {
             progress.advance(int64_t(spec.width) * spec.height);
             if (inSheet && root)
                 sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
@@ -335,34 +345,33 @@ void runRender(const RenderCommand& cmd) {
             if (root && hasComputedView(scene->spec()))  // fitted numbers, to freeze into the scene
                 std::printf("%s%s: fitted view:\n%s\n", quiet ? "" : "\n", spec.title.c_str(),
                             frozenViewJson(scene->spec()).c_str());
+            if (root) warnInvisibleObjects(*scene);
             RenderStats stats;
             AovImage aovs;
+            AovRequest withAlpha = aov;  // the coverage, for the background and the empty check
+            withAlpha.alpha = true;
             RenderCost cost;  // --stats (a process's own share under mpirun: not printed)
             const bool withCost = cmd.stats && !cluster::distributed();
-            const Film film = renderShared(*scene, cmd, aov, aovs, &stats, &progress, 0, -1,
-                                           withCost ? &cost : nullptr);
+            Film film = renderShared(*scene, cmd, withAlpha, aovs, &stats, &progress, 0, -1,
+                                     withCost ? &cost : nullptr);
             if (!root) continue;
+            warnIfEmpty(spec, aovs.alpha);
             const ImageChannels extra = passChannels(aov, aovs, spec);
-            RgbImage rgb = filmToRgb(film, spec.exposure);
-            applyTone(rgb, spec.tone);
-            // Both written before either is put in place: a failed EXR after a good PNG (a full
-            // disk) leaves neither. EXR last: a resumed batch (--skip-existing) takes a scene as
-            // done only when both exist.
-            PendingImage png = writeImagePending(base + ".png", rgb);
-            PendingImage exr = writeFilmPending(base + ".exr", film, spec.exposure, extra);
-            png.commit();
-            exr.commit();
+            const FigureResult figure = writeFigure(cmd.figure, spec, base, film, aovs.alpha, extra);
+            const RgbImage& rgb = figure.display;
             if (!quiet && cluster::distributed())  // rank 0's counts are only its share
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
-                                     "%s.png/.exr\n",
+                                     "%s\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
-                             spec.samplesPerPixel, stats.seconds, cluster::size(), base.c_str());
+                             spec.samplesPerPixel, stats.seconds, cluster::size(),
+                             figure.written.c_str());
             else if (!quiet)
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
-                                     "samples (%.1f M shaded) -> %s.png/.exr\n",
+                                     "samples (%.1f M shaded) -> %s\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                              spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
-                             stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6, base.c_str());
+                             stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6,
+                             figure.written.c_str());
             if (withCost) {
                 std::fflush(stderr);
                 std::printf("%s: %s", spec.title.c_str(), costSummary(spec, cost).c_str());
@@ -462,10 +471,12 @@ void runMerge(const RenderCommand& cmd) {
                           part.channels.data.begin() + long(size_t(y1) * spec.width * k),
                           merged.channels.data.begin() + long(size_t(y0) * spec.width * k));
             }
-            merged.attributes.clear();
+            merged.attributes = provenance(spec);  // the shards' own tags go; the merge's come
             writeFloatImage(base + ".exr", merged);
             // The display image from the merged floats, as a single run makes it from its own.
-            writeImage(base + ".png", displayFromExr(base + ".exr", spec.tone));
+            ImageWriteOptions png;
+            png.attributes = merged.attributes;
+            writeImagePending(base + ".png", displayFromExr(base + ".exr", spec.tone), png).commit();
             if (!cmd.quiet)
                 std::fprintf(stderr, "%s: %d parts -> %s.exr/.png\n", spec.title.c_str(), count,
                              base.c_str());
@@ -554,6 +565,7 @@ void registerRenderCommand(CLI::App& app) {
                     "camera's up axis through the objects' centre, lights turning with the camera; "
                     "writes NAME-orbit-000.exr/.png ... and contact-sheet-NAME-orbit.png")
         ->check(CLI::Range(1, 3600));
+    cmd.figure.addOptions(*sub);
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
     sub->add_flag("--stats", cmd.stats,
                   "after each scene, print its CPU time by part and each object's BRDF "

@@ -47,9 +47,9 @@ RgbImage makeContactSheet(const std::vector<ContactSheetEntry>& entries, int col
         for (int y = 0; y < thumb.height; ++y)
             for (int x = 0; x < thumb.width; ++x)
                 std::copy_n(thumb.pixel(x, y), 3, sheet.pixel(cx + x, cy + y));
-        // DejaVu Sans averages ~0.55 em per character: shrink long captions to fit the cell.
-        const int chars = std::max<int>(1, int(entries[i].caption.size()));
-        const int size = std::max(8, std::min(caption * 3 / 4, int(thumbSize / (0.55 * chars))));
+        // Long captions shrink (down to 8 pixels) until their measured width fits the cell.
+        int size = caption * 3 / 4;
+        while (size > 8 && textWidth(entries[i].caption, size) > thumbSize) --size;
         drawText(sheet, cx + thumbSize / 2, cy + thumbHeight + caption - caption / 4,
                  entries[i].caption, size, {0.85f, 0.85f, 0.85f}, true);
     }

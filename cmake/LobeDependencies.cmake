@@ -23,6 +23,10 @@ foreach(prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
   endif()
 endforeach()
 
+# Captions are drawn with FreeType (core/image_text.cpp; Debian libfreetype-dev): OpenImageIO's
+# render_text garbles every non-ASCII character.
+find_package(Freetype REQUIRED)
+
 if(LOBE_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
   include(GoogleTest)

@@ -36,7 +36,7 @@ std::string temporarySibling(const std::string& path) {
 
 PendingImage writePixels(const std::string& path, int width, int height,
                          const std::vector<std::string>& channelNames, const std::vector<float>& data,
-                         const ImageAttributes& attributes = {}) {
+                         const ImageWriteOptions& options = {}) {
     const std::string ext = lowerExtension(path);
     if (!isSupportedImageExtension(path))
         throw Error("cannot write '" + path + "': unsupported image extension '" + ext +
@@ -44,51 +44,110 @@ PendingImage writePixels(const std::string& path, int width, int height,
     const fs::path parent = fs::path(path).parent_path();
     if (!parent.empty() && !fs::is_directory(parent))
         throw Error("cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
+    const bool jpeg = ext == ".jpg" || ext == ".jpeg";
+    const bool png = ext == ".png";
+    const std::vector<float>* alpha = options.alpha;
+    const size_t n = size_t(width) * height;
+    if (alpha && alpha->size() != n)
+        throw Error("cannot write '" + path + "': the alpha channel does not match the image size");
+    if (alpha && jpeg)
+        throw Error("cannot write '" + path + "': JPEG has no alpha channel (write .png, .tif or "
+                    ".exr, or give the image a background colour)");
+    if (options.bits != 8 && !(options.bits == 16 && (png || ext == ".tif" || ext == ".tiff")))
+        throw Error("cannot write '" + path + "': " + std::to_string(options.bits) +
+                    "-bit output is for .png and .tif only (8 or 16 bits)");
 
     const int channels = static_cast<int>(channelNames.size());
     OIIO::ImageSpec spec;
-    std::vector<unsigned char> bytes;
+    std::vector<unsigned char> bytes;      // 8-bit samples
+    std::vector<unsigned short> words;     // 16-bit samples
+    std::vector<float> floats;             // EXR with alpha: A inserted after B
     const void* pixels = data.data();
     if (isFloatFormat(ext)) {
-        spec = OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::FLOAT);
-        spec.channelnames = channelNames;
-        spec.attribute("compression", "zip");
-        for (const auto& [key, value] : attributes) spec.attribute(key, value);
-    } else {
-        // 8-bit formats get the display encoding and only the colour channels.
-        spec = OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8);
-        bytes.resize(size_t(width) * height * 3);
-        for (size_t i = 0, n = size_t(width) * height; i < n; ++i)
-            for (int c = 0; c < 3; ++c) {
-                const double v = data[i * channels + c];
-                bytes[i * 3 + c] = static_cast<unsigned char>(
-                    std::lround(srgbEncode(std::isfinite(v) ? v : 0.0) * 255.0));
+        std::vector<std::string> names = channelNames;
+        if (alpha) {
+            names.insert(names.begin() + 3, "A");
+            floats.resize(n * size_t(channels + 1));
+            for (size_t i = 0; i < n; ++i) {
+                const float* src = &data[i * size_t(channels)];
+                float* dst = &floats[i * size_t(channels + 1)];
+                std::copy(src, src + 3, dst);
+                dst[3] = std::isfinite((*alpha)[i]) ? std::clamp((*alpha)[i], 0.0f, 1.0f) : 0.0f;
+                std::copy(src + 3, src + channels, dst + 4);
             }
-        pixels = bytes.data();
+            pixels = floats.data();
+        }
+        spec = OIIO::ImageSpec(width, height, int(names.size()), OIIO::TypeDesc::FLOAT);
+        spec.channelnames = names;
+        if (alpha) spec.alpha_channel = 3;
+        spec.attribute("compression", "zip");
+    } else {
+        // Integer formats get the display encoding and only the colour channels (and alpha);
+        // with alpha the colour is divided by it (straight alpha), 0 where nothing covers.
+        const int out = alpha ? 4 : 3;
+        const double scale = options.bits == 16 ? 65535.0 : 255.0;
+        if (options.bits == 16) words.resize(n * size_t(out));
+        else bytes.resize(n * size_t(out));
+        for (size_t i = 0; i < n; ++i) {
+            double a = 1.0;
+            if (alpha) a = std::isfinite((*alpha)[i]) ? std::clamp(double((*alpha)[i]), 0.0, 1.0) : 0.0;
+            for (int c = 0; c < out; ++c) {
+                double v;
+                if (c == 3) {
+                    v = a;
+                } else {
+                    const double premultiplied = data[i * size_t(channels) + size_t(c)];
+                    const double straight = !alpha ? premultiplied : a > 0.0 ? premultiplied / a : 0.0;
+                    v = srgbEncode(std::isfinite(straight) ? straight : 0.0);
+                }
+                const long q = std::lround(v * scale);
+                if (options.bits == 16) words[i * size_t(out) + size_t(c)] = static_cast<unsigned short>(q);
+                else bytes[i * size_t(out) + size_t(c)] = static_cast<unsigned char>(q);
+            }
+        }
+        spec = OIIO::ImageSpec(width, height, out,
+                               options.bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
+        if (alpha) {
+            spec.alpha_channel = 3;
+            spec.attribute("oiio:UnassociatedAlpha", 1);  // already divided: not again
+        }
+        pixels = options.bits == 16 ? static_cast<const void*>(words.data()) : bytes.data();
         spec.attribute("oiio:ColorSpace", "sRGB");
-        if (ext == ".jpg" || ext == ".jpeg") spec.attribute("Compression", "jpeg:85");
+        if (jpeg) spec.attribute("Compression", "jpeg:85");
     }
+    if (isFloatFormat(ext) || png)
+        for (const auto& [key, value] : options.attributes) spec.attribute(key, value);
 
     const std::string tmp = temporarySibling(path);
     PendingImage pending(tmp, path);  // removes tmp unless committed
-    auto out = OIIO::ImageOutput::create(tmp);
-    if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
-    bool ok = out->open(tmp, spec);
-    ok = ok && out->write_image(spec.format, pixels);
-    ok = out->close() && ok;
-    if (!ok) throw Error("cannot write '" + path + "': " + out->geterror());
+    auto output = OIIO::ImageOutput::create(tmp);
+    if (!output) throw Error("cannot write '" + path + "': " + OIIO::geterror());
+    bool ok = output->open(tmp, spec);
+    ok = ok && output->write_image(spec.format, pixels);
+    ok = output->close() && ok;
+    if (!ok) throw Error("cannot write '" + path + "': " + output->geterror());
     // OpenImageIO's PNG, JPEG and TIFF writers do not report a short write (a full disk left a
     // truncated PNG and exit 0); the file is read back instead, and a lossless one compared
-    // byte for byte (a few ms for a 1024² PNG).
+    // sample for sample (a few ms for a 1024² PNG).
     if (!isFloatFormat(ext)) {
-        std::vector<unsigned char> back(bytes.size());
-        auto in = OIIO::ImageInput::open(tmp);
-        const bool read = in && in->spec().width == width && in->spec().height == height &&
-                          in->spec().nchannels == 3 &&
-                          in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, back.data());
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1);  // as written, not premultiplied again
+        auto in = OIIO::ImageInput::open(tmp, &config);
+        const int out = spec.nchannels;
+        bool read = in && in->spec().width == width && in->spec().height == height &&
+                    in->spec().nchannels == out;
+        bool same = true;
+        if (read && options.bits == 16) {
+            std::vector<unsigned short> back(words.size());
+            read = in->read_image(0, 0, 0, out, OIIO::TypeDesc::UINT16, back.data());
+            same = back == words;
+        } else if (read) {
+            std::vector<unsigned char> back(bytes.size());
+            read = in->read_image(0, 0, 0, out, OIIO::TypeDesc::UINT8, back.data());
+            same = back == bytes;
+        }
         if (in) in->close();
-        const bool lossy = ext == ".jpg" || ext == ".jpeg";
-        if (!read || (!lossy && back != bytes))
+        if (!read || (!jpeg && !same))
             throw Error("cannot write '" + path + "': the file written is incomplete (a full disk?)");
     }
     return pending;
@@ -123,8 +182,9 @@ void PendingImage::commit() {
     temporary_.clear();
 }
 
-PendingImage writeImagePending(const std::string& path, const RgbImage& image) {
-    return writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb);
+PendingImage writeImagePending(const std::string& path, const RgbImage& image,
+                               const ImageWriteOptions& options) {
+    return writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb, options);
 }
 
 void writeImage(const std::string& path, const RgbImage& image) {
@@ -138,6 +198,13 @@ void writeFilm(const std::string& path, const Film& film, double exposure,
 
 PendingImage writeFilmPending(const std::string& path, const Film& film, double exposure,
                               const ImageChannels& extra, const ImageAttributes& attributes) {
+    ImageWriteOptions options;
+    options.attributes = attributes;
+    return writeFilmPending(path, film, exposure, extra, options);
+}
+
+PendingImage writeFilmPending(const std::string& path, const Film& film, double exposure,
+                              const ImageChannels& extra, const ImageWriteOptions& options) {
     const RgbImage rgb = filmToRgb(film, exposure);
     const size_t n = size_t(film.width()) * film.height();
     const size_t k = extra.names.size();
@@ -159,7 +226,7 @@ PendingImage writeFilmPending(const std::string& path, const Film& film, double 
     }
     std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};
     names.insert(names.end(), extra.names.begin(), extra.names.end());
-    return writePixels(path, film.width(), film.height(), names, data, attributes);
+    return writePixels(path, film.width(), film.height(), names, data, options);
 }
 
 FloatImage readFloatImage(const std::string& path) {
@@ -182,9 +249,19 @@ FloatImage readFloatImage(const std::string& path) {
 }
 
 void writeFloatImage(const std::string& path, const FloatImage& image) {
-    writePixels(path, image.width, image.height, image.channels.names, image.channels.data,
-                image.attributes)
+    ImageWriteOptions options;
+    options.attributes = image.attributes;
+    writePixels(path, image.width, image.height, image.channels.names, image.channels.data, options)
         .commit();
+}
+
+ImageAttributes readImageAttributes(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    ImageAttributes attributes;
+    for (const OIIO::ParamValue& p : in->spec().extra_attribs)
+        if (p.type() == OIIO::TypeDesc::STRING) attributes[p.name().string()] = p.get_string();
+    return attributes;
 }
 
 RgbImage readImage(const std::string& path) {
@@ -194,7 +271,7 @@ RgbImage readImage(const std::string& path) {
     std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
         throw Error("cannot read image '" + path + "': " + in->geterror());
-    const bool encoded = spec.format == OIIO::TypeDesc::UINT8;
+    const bool encoded = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
     RgbImage image(spec.width, spec.height);
     for (size_t i = 0, n = size_t(spec.width) * spec.height; i < n; ++i)
         for (int c = 0; c < 3; ++c) {

@@ -1,6 +1,10 @@
 // Writing images with OpenImageIO. The format follows the extension: .exr keeps linear floats
 // (R, G, B in linear sRGB and, for a Film, the three bands as channels band.700, band.546_1,
-// band.435_8); .png, .tif, .jpg get 8-bit sRGB-encoded values. Files are written under a
+// band.435_8); .png, .tif, .jpg get 8-bit sRGB-encoded values (.png also 16-bit, see
+// ImageWriteOptions). With an alpha (coverage) channel the colour given is premultiplied by it
+// (associated alpha, as an EXR stores it: channel A after R, G, B); PNG and TIFF store colour
+// divided by alpha (straight alpha, as those formats expect), JPEG has no alpha and refuses it.
+// String attributes go into an EXR's header and a PNG's text chunks (iTXt/tEXt). Files are written under a
 // temporary name in the same folder and renamed, so a failed write never leaves a partial file.
 // This lives in its own library (lobe_image_io) because OpenImageIO costs every process that
 // links it ~0.3 s of start-up (shared/docs/stack.md, pitfall 3).
@@ -22,8 +26,17 @@ struct ImageChannels {
     std::vector<float> data;  // [pixel · names.size() + channel]
 };
 
-// String attributes stored in an EXR's header (e.g. "lobe:shard"); 8-bit formats ignore them.
+// String attributes stored in an EXR's header (e.g. "lobe:shard") and as PNG text chunks; JPEG
+// and TIFF ignore them.
 using ImageAttributes = std::map<std::string, std::string>;
+
+struct ImageWriteOptions {
+    ImageAttributes attributes;
+    int bits = 8;  // integer formats: 8, or 16 for .png and .tif
+    // Coverage per pixel in [0, 1] (width · height values), the colour premultiplied by it; null:
+    // opaque. Written as channel A.
+    const std::vector<float>* alpha = nullptr;
+};
 
 // An image written completely under a temporary name beside its path, not yet in place:
 // commit() renames it there; destroyed uncommitted (an error in a later file of the same set),
@@ -48,10 +61,17 @@ void writeImage(const std::string& path, const RgbImage& image);
 void writeFilm(const std::string& path, const Film& film, double exposure = 1.0,
                const ImageChannels& extra = {}, const ImageAttributes& attributes = {});
 // The same, left pending (see PendingImage).
-[[nodiscard]] PendingImage writeImagePending(const std::string& path, const RgbImage& image);
+[[nodiscard]] PendingImage writeImagePending(const std::string& path, const RgbImage& image,
+                                             const ImageWriteOptions& options = {});
 [[nodiscard]] PendingImage writeFilmPending(const std::string& path, const Film& film,
                                             double exposure = 1.0, const ImageChannels& extra = {},
                                             const ImageAttributes& attributes = {});
+[[nodiscard]] PendingImage writeFilmPending(const std::string& path, const Film& film,
+                                            double exposure, const ImageChannels& extra,
+                                            const ImageWriteOptions& options);
+
+// Every string attribute of an image file (EXR header, PNG text chunks), by name.
+ImageAttributes readImageAttributes(const std::string& path);
 
 // Every channel of a float image as stored, and its "lobe:" attributes: what `lobe merge`
 // assembles shard parts from, so the merged file holds exactly the floats a single render writes.

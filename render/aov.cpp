@@ -5,6 +5,8 @@
 #include "materials/registry.h"
 #include "render/shading.h"
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
 #include <sstream>
@@ -69,6 +71,7 @@ AovImage makeAovImage(const AovRequest& request, int width, int height, int obje
     if (request.depth) a.depth.assign(n, 0.0f);
     if (request.normal) a.normal.assign(n * 3, 0.0f);
     if (request.topObject) a.topObject.assign(n, -1.0f);
+    if (request.alpha) a.alpha.assign(n, 0.0f);
     if (a.modelCount > 0) {
         a.modelSpecular.assign(n * size_t(objectCount) * size_t(a.modelCount), 0.0f);
         // The beauty minus the specular parts is needed to rebuild any assignment's image.
@@ -95,11 +98,16 @@ void AovAccumulator::beginPixel() {
     depthSum_ = 0.0;
     depthCount_ = 0;
     normalSum_ = Vec3(0.0);
+    coverageSum_ = 0.0;
+    inSample_ = false;
 }
 
 void AovAccumulator::beginSample(const Vec3& toViewer) {
     toViewer_ = toViewer;
     depthFound_ = false;
+    if (inSample_) coverageSum_ += 1.0 - sampleTransmittance_;
+    sampleTransmittance_ = 1.0;
+    inSample_ = true;
 }
 
 void AovAccumulator::onEvent(const ShadingEvent& e) {
@@ -116,6 +124,8 @@ void AovAccumulator::onEvent(const ShadingEvent& e) {
         backdrop_ += e.radiance * e.weight;
         return;
     }
+    // Exactly the compositor's T after this event (render/compositor.h).
+    sampleTransmittance_ = e.transmittanceBefore * (1.0 - e.alpha);
     if (!e.point || e.weight == 0.0) return;
     if (!lambert_.empty()) {
         const ShadingTerms terms = shadeTerms(*e.point, toViewer_, lights_);
@@ -144,6 +154,10 @@ void AovAccumulator::finishPixel(int samples, size_t p, AovImage& out) const {
             put(&out.specular[(p * objects_ + size_t(o)) * 3], specular_[size_t(o)], inv);
         }
     if (!out.backdrop.empty()) put(&out.backdrop[p * 3], backdrop_, inv);
+    if (!out.alpha.empty()) {
+        const double coverage = (coverageSum_ + (inSample_ ? 1.0 - sampleTransmittance_ : 0.0)) * inv;
+        out.alpha[p] = std::isfinite(coverage) ? float(std::clamp(coverage, 0.0, 1.0)) : 0.0f;
+    }
     if (!out.depth.empty()) out.depth[p] = depthCount_ > 0 ? float(depthSum_ / depthCount_) : 0.0f;
     if (!out.normal.empty() && depthCount_ > 0) {
         const double len = normalSum_.length();

@@ -26,11 +26,17 @@ struct AovRequest {
     bool depth = false;
     bool normal = false;
     bool topObject = false;
+    // Coverage of the objects (alpha, render/background.h): 1 − the transmittance through every
+    // object along the ray, averaged over the pixel's samples. Not an EXR pass of its own: the
+    // figure output writes it as channel A.
+    bool alpha = false;
     double depthOpacity = 0.5;
     std::vector<std::string> models;  // specular luminance per object per model
     std::vector<Brdf> modelBrdfs;     // filled from `models` at their defaults
 
-    bool any() const { return objects || backdrop || depth || normal || topObject || !models.empty(); }
+    bool any() const {
+        return objects || backdrop || depth || normal || topObject || alpha || !models.empty();
+    }
     // Sets `models` and builds their BRDFs at their defaults; throws for an unknown name.
     void setModels(const std::vector<std::string>& names);
     // "all" or a comma list of objects, backdrop, depth, normal, id; throws lobe::Error naming a
@@ -47,6 +53,7 @@ struct AovImage {
     std::vector<float> normal;             // [pixel · 3 + axis], world space; 0 where no depth
     std::vector<float> topObject;          // object index, −1 for the backdrop
     std::vector<float> modelSpecular;      // luminance: [(pixel · objectCount + object) · modelCount + model]
+    std::vector<float> alpha;              // coverage in [0, 1] (AovRequest::alpha)
 
     size_t pixelCount() const { return size_t(width) * height; }
     Spectrum lambertAt(size_t pixel, int object) const;
@@ -82,6 +89,9 @@ private:
     double depthSum_ = 0.0;
     int depthCount_ = 0;
     Vec3 normalSum_{0.0};
+    double sampleTransmittance_ = 1.0;  // through the objects so far, this sample
+    double coverageSum_ = 0.0;          // Σ (1 − T) over the finished samples
+    bool inSample_ = false;
 };
 
 // An AovImage of the right size with the requested layers allocated.

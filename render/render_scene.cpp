@@ -55,7 +55,9 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     // The film (3 doubles a pixel), its display copy and the EXR's floats (6 + 3 floats), and
     // the passes asked for (about 6 floats an object, 8 more, and one per object and model).
     double bytesPerPixel = 3 * 8 + 9 * 4;
-    if (aov && aov->any())
+    if (aov && aov->alpha) bytesPerPixel += 4.0 * 2;  // coverage, and its copy in the EXR
+    if (aov && (aov->objects || aov->backdrop || aov->depth || aov->normal || aov->topObject ||
+                !aov->models.empty()))
         bytesPerPixel += 4.0 * (8 + double(spec.objects.size()) * (6 + 10));
     checkFits(double(spec.width) * spec.height * bytesPerPixel,
               spec.path + ": a " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +

@@ -273,7 +273,7 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
         throw Error(spec_.path + ": " + e.what());
     }
 
-    if (spec_.backdrop.enabled) {
+    if (spec_.backdrop.enabled && spec_.background.mode == Background::Mode::Backdrop) {
         // Behind everything: the farthest corner of the objects' box along the view, plus 10 %.
         const Vec3 forward = camera_.forward();
         double depth = (spec_.cameraTarget - spec_.cameraPosition).dot(forward) * 1.5;

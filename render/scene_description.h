@@ -6,6 +6,7 @@
 #include "core/camera.h"
 #include "core/light.h"
 #include "materials/material.h"
+#include "render/background.h"
 #include "volume/transfer_function.h"
 
 #include <array>
@@ -133,6 +134,7 @@ struct SceneSpec {
     std::vector<PointLight> lights;
     LightRigSpec lightRig;
     BackdropSpec backdrop;
+    Background background;  // backdrop (default), none or a colour: render/background.h
     double volumeStepVoxels = 0.05;
     double terminationTransmittance = 1e-3;
     // Volume samples whose weight in the pixel (transmittance × opacity) is below this are

@@ -530,6 +530,16 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
             scene.lights.push_back(light);
         }
     }
+    if (r.has("background")) {  // render/background.h
+        const Json& v = r.raw("background");
+        const std::string where = name + ": background";
+        if (v.is_string()) {
+            scene.background = parseBackground(v.get<std::string>(), where);
+        } else {
+            const std::vector<double> c = r.numbers(v, "background", 3);
+            scene.background = backgroundFromColour({c[0], c[1], c[2]}, where);
+        }
+    }
     if (r.has("backdrop")) {
         Reader b = r.child("backdrop");
         scene.backdrop.enabled = b.boolean("enabled", true);

@@ -150,6 +150,59 @@ TEST(Aov, TopObjectAndDepthAreConsistent) {
     EXPECT_GT(backdropPixels, 100);
 }
 
+// Coverage (alpha, render/background.h) from composited events, by hand: one sample through an
+// opaque surface (T 1 → 0, coverage 1) and one that meets nothing (coverage 0) average to 0.5;
+// two volume samples of opacity 0.5 leave T = 0.25 before the backdrop: coverage 0.75 (the
+// backdrop event does not count as coverage).
+TEST(Aov, AlphaIsOneMinusTheTransmittanceThroughTheObjects) {
+    AovRequest request;
+    request.alpha = true;
+    const std::vector<PointLight> lights;
+    AovAccumulator acc(request, 2, lights);
+    AovImage out = makeAovImage(request, 3, 1, 2);
+    ASSERT_EQ(out.alpha.size(), 3u);
+    acc.beginPixel();
+    acc.beginSample(Vec3(0, 0, 1));
+    acc.onEvent({0, 1.0, 1.0, 1.0, 1.0, nullptr, Spectrum(0.0)});
+    acc.beginSample(Vec3(0, 0, 1));
+    acc.finishPixel(2, 0, out);
+    acc.beginPixel();
+    acc.beginSample(Vec3(0, 0, 1));
+    acc.onEvent({1, 1.0, 0.5, 1.0, 0.5, nullptr, Spectrum(0.0)});
+    acc.onEvent({1, 1.1, 0.5, 0.5, 0.25, nullptr, Spectrum(0.0)});
+    acc.onEvent({ShadingEvent::kBackdrop, 9.0, 1.0, 0.25, 0.25, nullptr, Spectrum(1.0)});
+    acc.finishPixel(1, 1, out);
+    acc.beginPixel();
+    acc.beginSample(Vec3(0, 0, 1));
+    acc.onEvent({ShadingEvent::kBackdrop, 9.0, 1.0, 1.0, 1.0, nullptr, Spectrum(1.0)});
+    acc.finishPixel(1, 2, out);
+    EXPECT_EQ(out.alpha[0], 0.5f);
+    EXPECT_EQ(out.alpha[1], 0.75f);
+    EXPECT_EQ(out.alpha[2], 0.0f);
+}
+
+// Asking for alpha changes no beauty pixel, and on rendering 1 alpha lies in [0, 1] with both
+// covered and uncovered pixels.
+TEST(Aov, AlphaLeavesTheBeautyAlone) {
+    const RenderScene scene(tinyPaperScene(0.03), false);
+    AovRequest request;
+    request.alpha = true;
+    AovImage passes;
+    const Film withAlpha = renderPasses(scene, 2, &request, &passes);
+    const Film plain = renderPasses(scene, 2, nullptr, nullptr);
+    for (size_t p = 0; p < plain.pixels().size(); ++p)
+        for (int band = 0; band < 3; ++band)
+            ASSERT_EQ(withAlpha.pixels()[p][band], plain.pixels()[p][band]) << p;
+    float lo = 1.0f, hi = 0.0f;
+    for (float a : passes.alpha) {
+        ASSERT_TRUE(a >= 0.0f && a <= 1.0f);
+        lo = std::min(lo, a);
+        hi = std::max(hi, a);
+    }
+    EXPECT_EQ(lo, 0.0f);
+    EXPECT_GT(hi, 0.9f);
+}
+
 TEST(Aov, ParseNamesABadPass) {
     EXPECT_THROW(AovRequest::parse("objects,specularity"), Error);
     EXPECT_THROW(AovRequest::parse(""), Error);

@@ -1,0 +1,242 @@
+#include "apps/figure_output.h"
+
+#include "core/error.h"
+#include "core/utf8.h"
+#include "render/render_scene.h"
+
+#include <CLI/CLI.hpp>
+#include <Imath/ImathMatrix.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#ifndef LOBE_VERSION
+#define LOBE_VERSION "unknown"
+#endif
+
+namespace lobe {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    return ext;
+}
+
+bool isExr(const std::string& path) { return lowerExtension(path) == ".exr"; }
+
+std::string fileText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string shellQuoted(const std::string& arg) {
+    if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                              "0123456789_-+=/.,:%@") == std::string::npos)
+        return arg;
+    std::string out = "'";
+    for (char c : arg) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+// Linear sRGB → bands without clamping (volume/transfer_function.h's linearSrgbToBands clamps
+// at 0): a background colour outside the CIE RGB gamut keeps its exact display colour.
+Spectrum srgbToBandsExact(const std::array<double, 3>& rgb) {
+    static const Imath::M33d kInverse = [] {
+        Imath::M33d m;
+        for (int j = 0; j < 3; ++j) {
+            Spectrum unit(0.0);
+            unit[j] = 1.0;
+            const std::array<double, 3> c = bandsToLinearSrgb(unit);
+            for (int i = 0; i < 3; ++i) m[i][j] = c[size_t(i)];
+        }
+        return m.inverse();
+    }();
+    Spectrum out;
+    for (int i = 0; i < 3; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < 3; ++j) v += kInverse[i][j] * rgb[size_t(j)];
+        out[i] = v;
+    }
+    return out;
+}
+
+}  // namespace
+
+void FigureOptions::addOptions(CLI::App& sub, const std::string& outOption) {
+    CLI::Option* o = sub.add_option(
+        "-o,--output", output,
+        "a single scene's image file; its extension picks the format (.png, .jpg, .tif, .exr); "
+        "only that file is written (add --exr for the EXR beside it)");
+    if (CLI::Option* out = sub.get_option_no_throw(outOption)) o->excludes(out);
+    sub.add_flag("--exr", withExr, "with -o FILE.png/.jpg/.tif: also write FILE.exr (linear floats)");
+    sub.add_option("--png-bits", pngBits, "bits per channel of PNG (and TIFF) output: 8 or 16")
+        ->capture_default_str()
+        ->check(CLI::IsMember({8, 16}));
+    sub.add_option("--background", background,
+                   "backdrop (the paper's), none (transparent: alpha in EXR/PNG/TIFF), or a colour "
+                   "#rrggbb; overrides the scenes' \"background\" (docs/scene-format.md)");
+}
+
+void FigureOptions::validate(size_t sceneCount, bool sharded) const {
+    if (pngBits != 8 && pngBits != 16) throw Error("--png-bits must be 8 or 16");
+    if (!background.empty()) parseBackground(background, "--background");
+    if (withExr && output.empty()) throw Error("--exr goes with -o FILE (without -o both are written)");
+    if (output.empty()) return;
+    if (sceneCount != 1)
+        throw Error("-o " + output + ": names one image, but " + std::to_string(sceneCount) +
+                    " scenes were given (use --out DIR for a batch)");
+    if (sharded) throw Error("-o " + output + ": not with --shard (parts are joined by `lobe merge`)");
+    if (!isSupportedImageExtension(output))
+        throw Error("-o " + output + ": unsupported image extension '" + lowerExtension(output) +
+                    "' (use .png, .jpg, .tif or .exr)");
+    if (withExr && isExr(output)) throw Error("-o " + output + ": is an EXR already; drop --exr");
+    if (pngBits == 16 && !(lowerExtension(output) == ".png" || lowerExtension(output) == ".tif" ||
+                           lowerExtension(output) == ".tiff"))
+        throw Error("-o " + output + ": --png-bits 16 needs a .png or .tif file");
+    const fs::path parent = fs::path(output).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent))
+        throw Error("-o " + output + ": folder '" + parent.string() + "' does not exist");
+    if (fs::is_directory(output)) throw Error("-o " + output + ": is a folder (use --out DIR)");
+}
+
+void FigureOptions::apply(SceneSpec& spec) const {
+    if (!background.empty()) spec.background = parseBackground(background, "--background");
+    const std::string ext = lowerExtension(output);
+    if (spec.background.mode == Background::Mode::None && (ext == ".jpg" || ext == ".jpeg"))
+        throw Error(spec.path + ": background none needs an alpha channel, which JPEG (-o " + output +
+                    ") has not: write .png, .tif or .exr, or give a background colour");
+}
+
+std::vector<std::string> FigureOptions::outputPaths(const std::string& base) const {
+    if (output.empty()) return {base + ".png", base + ".exr"};
+    std::vector<std::string> paths{output};
+    if (withExr) paths.push_back((fs::path(output).replace_extension(".exr")).string());
+    return paths;
+}
+
+std::string commandLine() {
+    std::ifstream in("/proc/self/cmdline", std::ios::binary);
+    std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string out;
+    size_t start = 0;
+    while (start < all.size()) {
+        size_t end = all.find('\0', start);
+        if (end == std::string::npos) end = all.size();
+        out += (out.empty() ? "" : " ") + shellQuoted(all.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
+ImageAttributes provenance(const SceneSpec& spec) {
+    char settings[512];
+    std::snprintf(settings, sizeof settings,
+                  "%dx%d spp %d seed %llu step_voxels %.17g roulette %.17g exposure %.17g tone %s "
+                  "background %s",
+                  spec.width, spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
+                  spec.volumeStepVoxels, spec.shadingRoulette, spec.exposure, spec.tone.c_str(),
+                  spec.background.text.c_str());
+    return {{"Software", std::string("Lobe ") + LOBE_VERSION},
+            {"lobe:version", LOBE_VERSION},
+            {"lobe:command_line", asciiEscaped(commandLine())},
+            {"lobe:scene_file", asciiEscaped(spec.path)},
+            {"lobe:scene_json", asciiEscaped(fileText(spec.path))},
+            {"lobe:seed", std::to_string(spec.seed)},
+            {"lobe:render_settings", asciiEscaped(settings)}};
+}
+
+void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,
+                         double exposure) {
+    if (background.mode != Background::Mode::Colour) return;
+    const size_t n = size_t(film.width()) * film.height();
+    if (alpha.size() != n) throw Error("internal: no coverage for the background colour");
+    const Spectrum colour = srgbToBandsExact(background.colour) * (1.0 / exposure);
+    Spectrum* pixels = film.data();
+    for (size_t i = 0; i < n; ++i) pixels[i] += colour * (1.0 - double(alpha[i]));
+}
+
+RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,
+                      double exposure) {
+    RgbImage rgb = filmToRgb(film, exposure);
+    if (!alpha || tone == "clip") {  // clipping commutes with the division by alpha
+        applyTone(rgb, tone);
+        return rgb;
+    }
+    RgbImage none;
+    applyTone(none, tone);  // refuses an unknown curve by name
+    for (size_t i = 0; i < alpha->size(); ++i) {
+        const double a = (*alpha)[i];
+        for (int c = 0; c < 3; ++c) {
+            float& v = rgb.rgb[i * 3 + size_t(c)];
+            v = a > 0.0 ? float(shoulderTone(v / a) * a) : 0.0f;
+        }
+    }
+    return rgb;
+}
+
+FigureResult writeFigure(const FigureOptions& options, const SceneSpec& spec,
+                         const std::string& base, Film& film, const std::vector<float>& alpha,
+                         const ImageChannels& extra) {
+    compositeBackground(film, alpha, spec.background, spec.exposure);
+    const bool transparent = spec.background.mode == Background::Mode::None;
+    FigureResult result;
+    result.display = displayImage(film, transparent ? &alpha : nullptr, spec.tone, spec.exposure);
+    ImageWriteOptions write;
+    write.attributes = provenance(spec);
+    write.alpha = transparent ? &alpha : nullptr;
+    // Every file written before any is put in place: a failed EXR after a good PNG (a full disk)
+    // leaves neither. The EXR last: a resumed batch (--skip-existing) takes a scene as done only
+    // when all exist.
+    std::vector<PendingImage> pending;
+    const std::vector<std::string> paths = options.outputPaths(base);
+    for (const std::string& path : paths) {
+        if (isExr(path)) {
+            pending.push_back(writeFilmPending(path, film, spec.exposure, extra, write));
+        } else {
+            ImageWriteOptions integer = write;
+            integer.bits = options.pngBits;
+            pending.push_back(writeImagePending(path, result.display, integer));
+        }
+    }
+    for (PendingImage& p : pending) p.commit();
+    result.written = options.output.empty() ? base + ".png/.exr" : paths.front();
+    if (paths.size() > 1) result.written += " and " + paths.back();
+    return result;
+}
+
+int warnInvisibleObjects(const RenderScene& scene) {
+    int count = 0;
+    const SceneSpec& spec = scene.spec();
+    for (const SceneVolume& vo : scene.scene().volumeObjects()) {
+        if (!vo.volume->empty() && vo.volume->transparentBrickFraction() < 1.0) continue;
+        std::fprintf(stderr,
+                     "lobe: warning: %s: objects[%d] (%s): its transfer function gives opacity 0 to "
+                     "every voxel of its volume, so it cannot be seen (check the transfer "
+                     "function's values against `lobe info` of the source)\n",
+                     spec.path.c_str(), vo.objectIndex, vo.spec->name.c_str());
+        ++count;
+    }
+    return count;
+}
+
+bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha) {
+    if (alpha.empty()) return false;
+    for (float a : alpha)
+        if (a > 0.0f) return false;
+    std::fprintf(stderr,
+                 "lobe: warning: %s: the image is empty: no object covers any pixel (every pixel is "
+                 "background; check the camera and the objects)\n",
+                 spec.path.c_str());
+    return true;
+}
+
+}  // namespace lobe
