@@ -58,8 +58,17 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
     const fs::path outDir = fs::absolute(fs::path(outPath)).parent_path();
     for (size_t o = 0; o < spec.objects.size(); ++o) {
         nlohmann::json& object = j["objects"][o];
-        object["source"]["path"] =
-            fs::relative(fs::absolute(spec.objects[o].source.path), outDir).generic_string();
+        const VolumeSourceSpec& source = spec.objects[o].source;
+        const auto relative = [&](const std::string& p) {
+            return fs::relative(fs::absolute(p), outDir).generic_string();
+        };
+        if (source.morePaths.empty()) {
+            object["source"]["path"] = relative(source.path);
+        } else {  // the files of a DICOM series
+            nlohmann::json list = nlohmann::json::array({relative(source.path)});
+            for (const std::string& p : source.morePaths) list.push_back(relative(p));
+            object["source"]["path"] = list;
+        }
         if (kept[o]) continue;
         const BrdfCandidate& c = candidates[size_t(chosen[o])];
         nlohmann::json brdf = {{"model", c.model}};

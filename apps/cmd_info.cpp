@@ -1,6 +1,7 @@
 // `lobe info FILE [layout options]`: loads a volume as the renderer would (volume/volume.h) and
 // prints its dimensions, spacing, world bounding box, value range, mean, percentiles (1, 5, 50,
-// 95, 99 %), active voxels, the grid's memory and the load time; --blur-fwhm blurs first (as a
+// 95, 99 %), active voxels, the grid's memory and the load time (FILE may be a DICOM folder or
+// several DICOM files, --series picks a series); --blur-fwhm blurs first (as a
 // scene's source does), --histogram / --bins N adds a histogram. Also home of the volume options `lobe convert` shares.
 #include "apps/commands.h"
 #include "volume/volume_summary.h"
@@ -12,6 +13,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -24,9 +26,14 @@ void addVolumeOptions(CLI::App& cmd, VolumeOptionText& text) {
     cmd.add_option("--offset", text.offset, "raw files: bytes to skip before the voxels");
     cmd.add_option("--scale", text.scale, "multiply every value by S (default 1)");
     cmd.add_option("--normalize", text.normalize,
-                   "divide every value by D, or by the data maximum with 'max' (e.g. CThead 3272)");
+                   "divide every value by D (e.g. CThead 3272), by the data maximum with 'max', "
+                   "or by a percentile of every voxel's value with 'pNN' (e.g. p99, the number "
+                   "lobe info prints for it)");
     cmd.add_option("--background", text.background,
                    "values <= B (file units) are stored inactive: skipped empty space (default 0)");
+    cmd.add_option("--series", text.series,
+                   "DICOM: the SeriesInstanceUID of the series to read when the files hold several "
+                   "(without it, such input is an error that lists them)");
 }
 
 void printVolumeSummary(const VolumeSummary& s) {
@@ -83,7 +90,7 @@ void printVolumeSummary(const VolumeSummary& s) {
 
 void registerInfoCommand(CLI::App& app) {
     struct Options {
-        std::string file;
+        std::vector<std::string> files;
         VolumeOptionText text;
         double blurFwhm = 0.0;
         int bins = 0;
@@ -92,9 +99,11 @@ void registerInfoCommand(CLI::App& app) {
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
         "info", "Print a volume's dimensions, spacing, world box, value range, mean, percentiles, "
-                "active voxels and memory, optionally a histogram (.nii, .nii.gz, .nhdr, .vdb; raw "
-                "files with --dims --type ...)");
-    cmd->add_option("FILE", options->file, "the volume file")->required();
+                "active voxels and memory, optionally a histogram (.nii, .nii.gz, .nhdr, .vdb, a "
+                "DICOM series as a folder or its files; raw files with --dims --type ...)");
+    cmd->add_option("FILE", options->files,
+                    "the volume file; or a DICOM folder, or the DICOM files of one series")
+        ->required();
     addVolumeOptions(*cmd, options->text);
     cmd->add_option("--name", options->text.gridName, ".vdb files: the grid to read");
     cmd->add_option("--blur-fwhm", options->blurFwhm,
@@ -106,7 +115,7 @@ void registerInfoCommand(CLI::App& app) {
         ->check(CLI::Range(1, 10000));
     cmd->callback([options] {
         const int bins = options->bins > 0 ? options->bins : (options->histogram ? 32 : 0);
-        printVolumeSummary(summarizeVolume(options->file, parseLoadOptions(options->text),
+        printVolumeSummary(summarizeVolume(options->files, parseLoadOptions(options->text),
                                            options->blurFwhm, bins));
     });
 }

@@ -41,9 +41,11 @@ TangentAxes worldAxes(const ObjectSpec& spec) {
 // Everything a loaded volume depends on.
 std::string sourceKey(const VolumeSourceSpec& s) {
     char numbers[256];
-    std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", int(s.divideByMax), s.divideBy,
+    std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", int(s.divideByMax),
+                  s.divideByPercentile, s.divideBy,
                   s.background, s.blurFwhmMm, s.spacing[0], s.spacing[1], s.spacing[2]);
-    std::string key = s.path + numbers + "|" + s.type + "|" + s.endian;
+    std::string key = s.path + numbers + "|" + s.type + "|" + s.endian + "|" + s.series;
+    for (const std::string& p : s.morePaths) key += "|" + p;
     if (s.dims)
         for (int d : *s.dims) key += "|" + std::to_string(d);
     return key;
@@ -60,8 +62,12 @@ Volume loadSource(const VolumeSourceSpec& s) {
     }
     if (s.divideBy != 1.0) options.normalize = s.divideBy;
     options.normalizeByMax = s.divideByMax;
+    options.normalizePercentile = s.divideByPercentile;
     options.background = s.background;
-    Volume v = loadVolume(s.path, options);
+    options.series = s.series;
+    std::vector<std::string> paths{s.path};
+    paths.insert(paths.end(), s.morePaths.begin(), s.morePaths.end());
+    Volume v = loadVolume(paths, options);
     if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);
     return v;
 }

@@ -20,12 +20,15 @@ namespace lobe {
 // Where an object's voxels come from and how their values are mapped before use.
 struct VolumeSourceSpec {
     std::string path;                            // resolved (relative to the scene file's folder)
+    std::vector<std::string> morePaths;          // "path": [a, b, …]: the DICOM slices after a
+    std::string series;                          // DICOM: the SeriesInstanceUID to read
     std::optional<std::array<int, 3>> dims;      // raw files only
     std::string type;                            // raw files only: uint8, int16, float32, ...
     std::string endian = "little";               // raw files only
     std::array<double, 3> spacing{1.0, 1.0, 1.0};  // raw files only
     double divideBy = 1.0;                       // value ↦ value / divideBy (CThead: 3272)
     bool divideByMax = false;                    // "divide_by": "max": by the data's maximum
+    double divideByPercentile = 0.0;             // "divide_by": "p99": by that percentile (0: none)
     double background = 0.0;                     // file units: voxels ≤ this are inactive
     double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
 };

@@ -5,6 +5,7 @@
 #include "core/nearest_name.h"
 #include "materials/registry.h"
 #include "render/framing.h"
+#include "volume/volume_layout.h"
 
 #include <nlohmann/json.hpp>
 
@@ -157,8 +158,24 @@ std::string resolvePath(const std::string& p, const std::string& baseDir) {
 
 VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
     VolumeSourceSpec s;
-    s.path = resolvePath(r.requiredString("path"), baseDir);
-    if (!fs::exists(s.path)) r.fail(r.at("path"), "file '" + s.path + "' does not exist");
+    // "path": one file or folder; or an array of files, the slices of one DICOM series.
+    if (r.has("path") && r.raw("path").is_array()) {
+        const Json& list = r.raw("path");
+        if (list.empty()) r.fail(r.at("path"), "an empty list (expected the files of a DICOM series)");
+        for (const Json& item : list) {
+            if (!item.is_string()) r.fail(r.at("path"), "expected a list of file names, got " + item.dump());
+            const std::string p = resolvePath(item.get<std::string>(), baseDir);
+            if (!fs::exists(p)) r.fail(r.at("path"), "file '" + p + "' does not exist");
+            if (s.path.empty())
+                s.path = p;
+            else
+                s.morePaths.push_back(p);
+        }
+    } else {
+        s.path = resolvePath(r.requiredString("path"), baseDir);
+        if (!fs::exists(s.path)) r.fail(r.at("path"), "file '" + s.path + "' does not exist");
+    }
+    s.series = r.string("series", "");
     if (r.has("dims")) {
         const auto d = r.numbers(r.raw("dims"), r.at("dims"), 3);
         std::array<int, 3> dims{};
@@ -179,9 +196,18 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
             s.spacing[i] = v[i];
         }
     }
-    if (r.has("divide_by") && r.raw("divide_by").is_string())
-        s.divideByMax = r.string("divide_by", "max", {"max"}) == "max";
-    else
+    if (r.has("divide_by") && r.raw("divide_by").is_string()) {
+        // "max", or a percentile "pNN" as `lobe info` prints them (LoadOptions::normalizePercentile).
+        const std::string text = r.string("divide_by", "max");
+        const double p = parsePercentileText(text);
+        if (text == "max")
+            s.divideByMax = true;
+        else if (p > 0.0)
+            s.divideByPercentile = p;
+        else
+            r.fail(r.at("divide_by"), "'" + text + "' is not a number, \"max\" or a percentile "
+                                      "\"pNN\" with 0 < NN <= 100 (e.g. \"p99\")");
+    } else
         s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
     s.blurFwhmMm = r.number("blur_fwhm_mm", 0.0, 0.0, 100.0);
     s.background = r.number("background", 0.0, -1e12, 1e12);
@@ -594,6 +620,14 @@ SceneSpec loadSceneFile(const std::string& path) {
                         "assets/scenes/paper/rendering-01.json is an example); `lobe info` "
                         "describes a volume");
     if (fs::is_directory(path)) throw Error("'" + path + "' is a folder, not a scene file");
+    {  // A DICOM file by its magic ('DICM' at byte 128, PS3.10 7.1), whatever its name.
+        std::ifstream probe(path, std::ios::binary);
+        char magic[4] = {};
+        if (probe && probe.seekg(128) && probe.read(magic, 4) && std::memcmp(magic, "DICM", 4) == 0)
+            throw Error("'" + path + "' is a DICOM file, not a scene file: a scene (JSON) names "
+                        "its volumes in objects[].source.path (a DICOM folder or files there; "
+                        "docs/scene-format.md); `lobe info` describes a DICOM series");
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot open scene file '" + path + "'");
     std::stringstream ss;

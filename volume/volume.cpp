@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "volume/dicom_file.h"
 #include "volume/gaussian_blur.h"
 #include "volume/vdb_size_check.h"
 #include "volume/volume_file.h"
@@ -50,10 +51,24 @@ void initializeOpenVdb() {
     (void)done;
 }
 
-// The value multiplier the options ask for, given the original range.
-double valueScaleFor(const std::string& path, const LoadOptions& options, double originalMax) {
+// Percentiles as `lobe info` prints them: nearest rank over this many bins of the value range.
+constexpr int kPercentileBins = 65536;
+
+// The value multiplier the options ask for, given the original range; `percentile(p)` gives the
+// p-th percentile of the original values (called only when options ask for one).
+template <typename PercentileFn>
+double valueScaleFor(const std::string& path, const LoadOptions& options, double originalMax,
+                     PercentileFn percentile) {
     double scale = options.scale;
-    if (options.normalizeByMax) {
+    if (options.normalizePercentile > 0.0) {
+        const double p = percentile(options.normalizePercentile);
+        char text[64];
+        std::snprintf(text, sizeof text, "%g", options.normalizePercentile);
+        if (!(p > 0.0) || !std::isfinite(p))
+            throw Error(path + ": cannot normalise by the " + text + " % percentile, which is " +
+                        std::to_string(p) + " (not positive)");
+        scale = 1.0 / p;
+    } else if (options.normalizeByMax) {
         if (!(originalMax > 0.0))
             throw Error(path + ": cannot normalise by the maximum, which is " +
                         std::to_string(originalMax) + " (not positive)");
@@ -86,7 +101,19 @@ Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
     volume.dims = dense.dims;
     volume.originalMin = dense.min;
     volume.originalMax = dense.max;
-    volume.valueScale = valueScaleFor(path, options, dense.max);
+    volume.valueScale = valueScaleFor(path, options, dense.max, [&](double p) {
+        // The histogram `lobe info` uses (summaryOf), over the dense values: the same number.
+        ValueHistogram h;
+        h.lo = dense.min;
+        h.hi = dense.max;
+        h.counts.assign(kPercentileBins, 0);
+        const double width = dense.max - dense.min;
+        for (float v : dense.values) {
+            const double f = width > 0.0 ? (double(v) - dense.min) / width * kPercentileBins : 0.0;
+            h.counts[std::size_t(std::min(double(kPercentileBins - 1), std::max(0.0, std::floor(f))))]++;
+        }
+        return h.percentile(p);
+    });
     volume.background = options.background;
     if (volume.valueScale != 1.0)
         for (float& v : dense.values) {
@@ -267,7 +294,11 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     if (readMeta<openvdb::StringMetadata>(*grid, kMetaSource, source)) volume.sourcePath = source;
 
     // Further scaling asked for now composes with what the file already holds.
-    const double extra = valueScaleFor(path, options, volume.originalMax * storedScale);
+    const double extra = valueScaleFor(path, options, volume.originalMax * storedScale, [&](double p) {
+        // Over every voxel of the box, as `lobe info` (summaryOf) counts them.
+        const VolumeStats stats = computeStats(volume);
+        return valueHistogram(volume, stats.min, stats.max, kPercentileBins, false).percentile(p);
+    });
     volume.valueScale = storedScale * extra;
     if (extra != 1.0)
         for (auto it = grid->tree().beginValueAll(); it; ++it)
@@ -286,17 +317,43 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     return volume;
 }
 
+Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& options) {
+    const std::string where = inputs.empty() ? std::string("DICOM") : inputs.front();
+    if (options.hasLayout)
+        throw Error(where + ": a DICOM series has its own layout; the raw-file options (--dims, "
+                            "--type, --endian, --spacing, --offset; a scene's dims, type, endian, "
+                            "spacing) do not apply");
+    std::string source = where;
+    if (inputs.size() > 1) source += " (and " + std::to_string(inputs.size() - 1) + " more files)";
+    if (!options.series.empty()) source += ", series " + options.series;
+    return buildVolume(detail::readDicomDense(inputs, options.series), source, options);
+}
+
+Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& options) {
+    if (paths.size() == 1) return loadVolume(paths.front(), options);
+    for (const std::string& p : paths)
+        if (!detail::hasDicomMagic(p))
+            throw Error(p + ": several input files are read as the slices of one DICOM series, "
+                            "but this is not a DICOM file (no 'DICM' at byte 128)");
+    return loadDicom(paths, options);
+}
+
 Volume loadVolume(const std::string& path, const LoadOptions& options) {
     using detail::endsWith;
     if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) return loadNifti(path, options);
     if (endsWith(path, ".nhdr")) return loadNrrd(path, options);
     if (endsWith(path, ".vdb")) return loadVdb(path, options);
+    // A folder or a file with the DICOM magic, whatever its name (DICOM files are often named
+    // IM0001 or by their UID): never raw voxels.
+    if (detail::isDicomInput(path)) return loadDicom({path}, options);
+    if (!options.series.empty())
+        throw Error(path + ": a series is chosen, but this is not a DICOM file or folder");
     if (!std::ifstream(path, std::ios::binary))
         throw Error(path + ": cannot open the file (" + std::strerror(errno) + ")");
     if (!options.hasLayout)
         throw Error(path + ": a headerless (raw) volume needs its layout: give --dims X,Y,Z, "
                            "--type, --endian and --spacing (known formats: .nii, .nii.gz, .nhdr, "
-                           ".vdb)");
+                           ".vdb, DICOM series as a folder or files)");
     RawLayout layout = options.layout;
     layout.gzip = endsWith(path, ".gz");
     return loadRaw(path, layout, options);
@@ -464,8 +521,7 @@ VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
     out.voxels = s.voxels;
     out.activeVoxels = s.activeVoxels;
     out.memoryBytes = s.memoryBytes;
-    // 65 536 bins: percentiles to 1.5e-5 of the value range.
-    constexpr int kPercentileBins = 65536;
+    // kPercentileBins (65 536): percentiles to 1.5e-5 of the value range.
     const ValueHistogram all = valueHistogram(volume, s.min, s.max, kPercentileBins, false);
     const ValueHistogram active = valueHistogram(volume, s.min, s.max, kPercentileBins, true);
     for (std::size_t i = 0; i < VolumeSummary::kPercents.size(); ++i) {
@@ -477,14 +533,33 @@ VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
 
 }  // namespace
 
+namespace {
+std::string pathsText(const std::vector<std::string>& paths) {
+    if (paths.empty()) throw Error("no input volume given");
+    if (paths.size() == 1) return paths.front();
+    return paths.front() + " (and " + std::to_string(paths.size() - 1) + " more files)";
+}
+}  // namespace
+
 VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options,
                               double blurFwhm, int histogramBins) {
+    return summarizeVolume(std::vector<std::string>{path}, options, blurFwhm, histogramBins);
+}
+
+VolumeSummary convertVolume(const std::string& in, const std::string& out,
+                            const LoadOptions& options, const std::string& gridName) {
+    return convertVolume(std::vector<std::string>{in}, out, options, gridName);
+}
+
+VolumeSummary summarizeVolume(const std::vector<std::string>& paths, const LoadOptions& options,
+                              double blurFwhm, int histogramBins) {
+    const std::string path = pathsText(paths);
     if (!(blurFwhm >= 0.0) || !std::isfinite(blurFwhm))
         throw Error(path + ": the blur FWHM must be finite and not negative");
     if (histogramBins < 0 || histogramBins > 100000)
         throw Error(path + ": the histogram's bins must be 1 … 100000");
     const auto start = std::chrono::steady_clock::now();
-    Volume volume = loadVolume(path, options);
+    Volume volume = loadVolume(paths, options);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (blurFwhm > 0.0) gaussianBlurFwhm(volume, blurFwhm);
@@ -500,10 +575,11 @@ VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& option
     return out;
 }
 
-VolumeSummary convertVolume(const std::string& in, const std::string& out,
+VolumeSummary convertVolume(const std::vector<std::string>& in, const std::string& out,
                             const LoadOptions& options, const std::string& gridName) {
     if (!detail::endsWith(out, ".vdb"))
         throw Error(out + ": the output of convert must be a .vdb file");
+    pathsText(in);
     const auto start = std::chrono::steady_clock::now();
     const Volume volume = loadVolume(in, options);
     const double seconds =

@@ -1,11 +1,13 @@
 // Volumes as OpenVDB float grids, and their loaders: headerless raw files with an explicit layout,
-// NIfTI-1 (.nii, .nii.gz), simple detached NRRD headers (.nhdr) and OpenVDB files (.vdb).
+// NIfTI-1 (.nii, .nii.gz), simple detached NRRD headers (.nhdr), DICOM series (a folder or a list
+// of slice files, through GDCM) and OpenVDB files (.vdb).
 //
 // Index and world space. A Volume's grid stores voxel (i, j, k), 0 ≤ i < dims[0] …, at the integer
 // index coordinate (i, j, k) (plus indexOrigin for foreign .vdb files): voxel *centres* sit on the
 // integer lattice, which is both OpenVDB's and NIfTI's convention. The grid's transform is the
 // full index → world affine map: diag(spacing) for raw files, the sform/qform/pixdim map for NIfTI
-// (nifti1.h, "METHOD 1/2/3"), the spacings / space directions for NRRD.
+// (nifti1.h, "METHOD 1/2/3"), the spacings / space directions for NRRD, the slice positions and
+// orientation for DICOM (converted from DICOM's LPS to the RAS frame NIfTI's sform uses).
 //
 // Values. A stored value is (raw · slope + intercept) · valueScale, in float. slope/intercept are
 // the file's own rescaling (NIfTI scl_slope / scl_inter, slope 0 meaning 1); valueScale is ours:
@@ -56,9 +58,15 @@ Volume loadRaw(const std::string& path, const RawLayout& layout, const LoadOptio
 Volume loadNifti(const std::string& path, const LoadOptions& options = {});
 Volume loadNrrd(const std::string& path, const LoadOptions& options = {});  // detached .nhdr
 Volume loadVdb(const std::string& path, const LoadOptions& options = {});
-// Dispatches on the name: .nii / .nii.gz, .nhdr, .vdb, otherwise raw (.raw, .raw.gz, …), which
-// needs options.hasLayout.
+// A DICOM series from folders or files (volume/dicom_file.h: sorting, checks, LPS → RAS, rescale);
+// options.series picks one series by SeriesInstanceUID. A raw layout in options is an error.
+Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& options = {});
+// Dispatches on the name: .nii / .nii.gz, .nhdr, .vdb; a folder, or a file with the DICOM magic
+// ('DICM' at byte 128, whatever its name), is a DICOM series; otherwise raw (.raw, .raw.gz, …),
+// which needs options.hasLayout. A DICOM file is never read as raw voxels.
 Volume loadVolume(const std::string& path, const LoadOptions& options = {});
+// One path as loadVolume; several are the files of one DICOM series (loadDicom).
+Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& options = {});
 
 // Writes the volume's grid (named gridName, or "density") with its metadata (dims, source,
 // original range, value scale) so loadVdb restores the whole Volume. Temporary name + rename.

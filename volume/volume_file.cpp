@@ -113,6 +113,15 @@ std::array<double, 3> parseTriple(const std::string& text, const std::string& op
     return v;
 }
 
+double parsePercentileText(const std::string& text) {
+    const std::string t = lower(trim(text));
+    if (t.size() < 2 || t[0] != 'p') return -1.0;
+    char* end = nullptr;
+    const double p = std::strtod(t.c_str() + 1, &end);
+    if (end == t.c_str() + 1 || *end != '\0' || !std::isfinite(p)) return -1.0;
+    return p > 0.0 && p <= 100.0 ? p : 0.0;
+}
+
 LoadOptions parseLoadOptions(const VolumeOptionText& text) {
     LoadOptions o;
     const bool anyLayout = !text.dims.empty() || !text.type.empty() || !text.endian.empty() ||
@@ -157,18 +166,24 @@ LoadOptions parseLoadOptions(const VolumeOptionText& text) {
     if (!text.normalize.empty()) {
         if (lower(trim(text.normalize)) == "max") {
             o.normalizeByMax = true;
+        } else if (const double p = parsePercentileText(text.normalize); p >= 0.0) {
+            if (p == 0.0)
+                throw Error("--normalize '" + text.normalize +
+                            "': a percentile must be above 0 and at most 100 (e.g. p99)");
+            o.normalizePercentile = p;
         } else {
             char* end = nullptr;
             o.normalize = std::strtod(text.normalize.c_str(), &end);
             if (end == text.normalize.c_str() || *end != '\0' || !(o.normalize > 0.0) ||
                 !std::isfinite(o.normalize))
                 throw Error("--normalize '" + text.normalize +
-                            "': expected a positive divisor or 'max'");
+                            "': expected a positive divisor, 'max' or a percentile such as 'p99'");
         }
     }
     if (!std::isfinite(text.background)) throw Error("--background must be a finite number");
     o.background = text.background;
     o.gridName = text.gridName;
+    o.series = text.series;
     return o;
 }
 

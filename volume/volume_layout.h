@@ -35,20 +35,28 @@ struct LoadOptions {
     double scale = 1.0;      // stored = original · scale
     double normalize = 0.0;  // if > 0: scale = 1/normalize (takes precedence over scale)
     bool normalizeByMax = false;  // scale = 1/(max of the original values)
+    // If > 0: scale = 1/(this percentile of the original values over every voxel, as `lobe info`
+    // prints it: nearest rank over 65 536 bins of the value range).
+    double normalizePercentile = 0.0;
     double background = 0.0;  // original units (before scale): voxels ≤ this are inactive (volume.h)
     std::string gridName;         // .vdb: which grid (empty: the first float grid)
+    std::string series;           // DICOM: the SeriesInstanceUID (empty: the only series)
 };
 
 // The volume options of the command line as typed (empty string: not given), turned into
 // LoadOptions by parseLoadOptions, which throws lobe::Error naming the option on bad text.
-// normalize is a positive number or "max".
+// normalize is a positive number, "max" or a percentile "pNN" (0 < NN ≤ 100, e.g. "p99", "p99.5").
 struct VolumeOptionText {
-    std::string dims, type, endian, spacing, normalize, gridName;
+    std::string dims, type, endian, spacing, normalize, gridName, series;
     std::int64_t offset = 0;
     double scale = 1.0;
     double background = 0.0;
 };
 LoadOptions parseLoadOptions(const VolumeOptionText& text);
+
+// "pNN" → NN when 0 < NN ≤ 100; -1 for text that is not of the form p<number>, 0 for a number out
+// of range (the callers name the key or option in their error).
+double parsePercentileText(const std::string& text);
 
 // Parses "X,Y,Z" (three numbers, commas or 'x' between them) for the command line's --dims and
 // --spacing; throws lobe::Error naming `option` and the expected form.

@@ -45,4 +45,10 @@ VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& option
 VolumeSummary convertVolume(const std::string& in, const std::string& out,
                             const LoadOptions& options, const std::string& gridName);
 
+// The same for several inputs: the slice files of one DICOM series (loadVolume's list form).
+VolumeSummary summarizeVolume(const std::vector<std::string>& paths, const LoadOptions& options,
+                              double blurFwhm = 0.0, int histogramBins = 0);
+VolumeSummary convertVolume(const std::vector<std::string>& in, const std::string& out,
+                            const LoadOptions& options, const std::string& gridName);
+
 }  // namespace lobe

@@ -734,4 +734,51 @@ TEST(Cli, CostRefusesBadModelsAndObjectsBeforeRendering) {
     }
 }
 
+// DICOM series (tests/volume/make_dicom_series.py): info and convert take a folder or the files
+// of a series; several series are listed with their UIDs and picked by --series; a bad series
+// writes nothing.
+TEST(Cli, InfoAndConvertReadDicomSeries) {
+    const fs::path d = testDir();
+    const fs::path data = d / "series";
+    ASSERT_EQ(std::system((std::string(LOBE_SYSTEM_PYTHON) + " " +
+                           quote(kSource + "/tests/volume/make_dicom_series.py") + " " +
+                           quote(data.string())).c_str()),
+              0);
+    CliRun r = lobe("info " + quote((data / "two_series").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    for (const char* part : {"2 series", "--series", "1.2.826.0.1.3680043.8.498.1111  'first series', 3 slices",
+                             "1.2.826.0.1.3680043.8.498.2222  'second series', 4 slices"})
+        EXPECT_NE(r.err.find(part), std::string::npos) << part << " not in: " << r.err;
+    r = lobe("info " + quote((data / "two_series").string()) + " --series 1.2.826.0.1.3680043.8.498.2222");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("3 x 2 x 4"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("spacing         1 x 1 x 1"), std::string::npos) << r.out;
+
+    // The files of a series, in any order, then OUT: the oblique CT's first voxel at RAS (40, -25, 110).
+    std::string files;
+    for (int n = 6; n >= 1; --n) files += quote((data / "ct" / ("IM000" + std::to_string(n))).string()) + " ";
+    const std::string vdb = (d / "ct.vdb").string();
+    r = lobe("convert " + files + quote(vdb));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    r = lobe("info " + quote(vdb));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("5 x 4 x 6"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("at world (40, -25, 110)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("file values     -1942 .."), std::string::npos) << r.out;
+
+    const std::string bad = (d / "gap.vdb").string();
+    r = lobe("convert " + quote((data / "gap").string()) + " " + quote(bad));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("missing slices"), std::string::npos) << r.err;
+    EXPECT_EQ(r.errLines(), 1);
+    EXPECT_FALSE(fs::exists(bad));
+    r = lobe("convert " + quote((data / "ct").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("convert needs an input and an output"), std::string::npos) << r.err;
+    // A DICOM file with a raw layout: refused, not read as voxels.
+    r = lobe("info " + quote((data / "ct" / "IM0001").string()) + " --dims 5,4,1 --type int16 --endian little");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("a DICOM series has its own layout"), std::string::npos) << r.err;
+}
+
 }  // namespace

@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <unistd.h>
 
 namespace lobe {
 namespace {
@@ -176,7 +178,8 @@ TEST(SceneFile, HighlightToneAndGreyBackdropKeys) {
     EXPECT_TRUE(t.backdrop.grey);
 }
 
-// "divide_by": a number or "max" (by the data's maximum); any other word is an error.
+// "divide_by": a number, "max" (by the data's maximum) or "pNN" (a percentile); any other word
+// is an error.
 TEST(SceneFile, DivideByNumberOrMax) {
     std::string text = validScene();
     text.replace(text.find(R"("source": {"path": "test_scene_file.cpp"})"), 41,
@@ -187,9 +190,58 @@ TEST(SceneFile, DivideByNumberOrMax) {
     word.replace(word.find(R"("max")"), 5, R"("most")");
     EXPECT_NE(errorOf(word).find("divide_by"), std::string::npos) << errorOf(word);
     EXPECT_FALSE(parseScene(validScene(), kBase, "scene.json").objects[0].source.divideByMax);
+    // A percentile "pNN", 0 < NN <= 100.
+    std::string percentile = text;
+    percentile.replace(percentile.find(R"("max")"), 5, R"("p99.5")");
+    EXPECT_EQ(parseScene(percentile, kBase, "scene.json").objects[0].source.divideByPercentile, 99.5);
+    EXPECT_FALSE(parseScene(percentile, kBase, "scene.json").objects[0].source.divideByMax);
+    for (const char* bad : {R"("p0")", R"("p100.5")", R"("p")"}) {
+        std::string b = text;
+        b.replace(b.find(R"("max")"), 5, bad);
+        EXPECT_NE(errorOf(b).find("objects[0].source.divide_by"), std::string::npos) << errorOf(b);
+        EXPECT_NE(errorOf(b).find("percentile"), std::string::npos) << errorOf(b);
+    }
 }
 
 // The level-set method's keys: read with "method": "levelset", unknown with another method.
+// "path": a list of files (the slices of one DICOM series) and "series" (a SeriesInstanceUID);
+// a list item that is not a string, or that does not exist, is named.
+TEST(SceneFile, DicomListAndSeries) {
+    std::string text = validScene();
+    const std::string source = R"("source": {"path": "test_scene_file.cpp"})";
+    text.replace(text.find(source), source.size(),
+                 R"("source": {"path": ["test_scene_file.cpp", "CMakeLists.txt"], "series": "1.2.3"})");
+    const SceneSpec s = parseScene(text, kBase, "scene.json");
+    EXPECT_EQ(s.objects[0].source.path, kBase + "/test_scene_file.cpp");
+    ASSERT_EQ(s.objects[0].source.morePaths.size(), 1u);
+    EXPECT_EQ(s.objects[0].source.morePaths[0], kBase + "/CMakeLists.txt");
+    EXPECT_EQ(s.objects[0].source.series, "1.2.3");
+    std::string bad = text;
+    bad.replace(bad.find(R"("CMakeLists.txt")"), 16, "7");
+    EXPECT_NE(errorOf(bad).find("objects[0].source.path: expected a list of file names"), std::string::npos)
+        << errorOf(bad);
+    std::string missing = text;
+    missing.replace(missing.find(R"("CMakeLists.txt")"), 16, R"("nowhere.dcm")");
+    EXPECT_NE(errorOf(missing).find("nowhere.dcm' does not exist"), std::string::npos) << errorOf(missing);
+}
+
+// A DICOM file (by its magic, 'DICM' at byte 128, whatever its name) given as a scene.
+TEST(SceneFile, ADicomFileIsNotAScene) {
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("lobe-scene-dicom-" + std::to_string(::getpid()) + ".json")).string();
+    {
+        std::ofstream out(path, std::ios::binary);
+        out << std::string(128, '\0') << "DICM" << std::string(64, '\0');
+    }
+    try {
+        loadSceneFile(path);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is a DICOM file, not a scene file"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(path);
+}
+
 TEST(SceneFile, LevelSetKeys) {
     const SceneSpec d = parseScene(validScene(R"(, "method": "levelset")"), kBase, "scene.json");
     EXPECT_EQ(d.objects[0].method, "levelset");

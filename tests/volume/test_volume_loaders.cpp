@@ -896,6 +896,47 @@ TEST(VolumeSummary, PercentilesHistogramAndBlur) {
     expectError([&] { summarizeVolume(path, o, -1.0, 0); }, {path, "blur"});
 }
 
+// Normalising by a percentile (--normalize pNN, a scene's "divide_by": "pNN") divides by the very
+// number `lobe info` prints for it: on the 100 voxels 0 … 99, p99 is the 99th smallest value, 98,
+// and p50 is 49 (nearest rank, to within one of 65 536 bins: the bin's lower edge). The same from a
+// .vdb; p1 is 0 here, which cannot divide; out-of-range or malformed percentiles are named.
+TEST(VolumeSummary, NormaliseByAPercentileAsInfoPrintsIt) {
+    Bytes b(100);
+    for (int i = 0; i < 100; ++i) b[std::size_t(i)] = std::uint8_t((i * 37) % 100);
+    const std::string path = writeFile("hundred-p.raw", b);
+    VolumeOptionText t;
+    t.dims = "10,10,1";
+    t.type = "uint8";
+    t.normalize = "p99";
+    const LoadOptions o = parseLoadOptions(t);
+    EXPECT_EQ(o.normalizePercentile, 99.0);
+    LoadOptions plain = o;
+    plain.normalizePercentile = 0.0;
+    const VolumeSummary info = summarizeVolume(path, plain);
+    const double bin = 99.0 / 65536.0;
+    const Volume v = loadVolume(path, o);
+    EXPECT_EQ(v.valueScale, 1.0 / info.percentilesAll[4]);  // the number info prints for 99 %
+    EXPECT_LE(1.0 / v.valueScale, 98.0);
+    EXPECT_GT(1.0 / v.valueScale, 98.0 - bin);
+    EXPECT_NEAR(valueAt(v, 1, 0, 0), 37.0 / 98.0, 1e-4);  // voxel 1 holds 37
+    LoadOptions median = plain;
+    median.normalizePercentile = 50.0;
+    EXPECT_EQ(loadVolume(path, median).valueScale, 1.0 / info.percentilesAll[2]);
+    // From a .vdb written without scaling: the same divisor.
+    const std::string vdb = (tempDir() / "hundred-p.vdb").string();
+    writeVdb(loadVolume(path, plain), vdb);
+    LoadOptions fromVdb;
+    fromVdb.normalizePercentile = 99.0;
+    EXPECT_EQ(loadVolume(vdb, fromVdb).valueScale, v.valueScale);
+    LoadOptions first = plain;
+    first.normalizePercentile = 1.0;
+    expectError([&] { loadVolume(path, first); }, {path, "1 % percentile", "not positive"});
+    for (const char* bad : {"p0", "p101", "p", "pmax", "q99"}) {
+        t.normalize = bad;
+        expectError([&] { parseLoadOptions(t); }, {"--normalize", bad});
+    }
+}
+
 TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
     const Volume v = loadRaw(writeFile("w.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
     const fs::path dir = tempDir() / "no_such_dir";
