@@ -1,11 +1,12 @@
 #include "apps/figure_output.h"
 
 #include "core/error.h"
+#include "core/image_output.h"
 #include "core/utf8.h"
 #include "render/render_scene.h"
+#include "volume/transfer_function.h"
 
 #include <CLI/CLI.hpp>
-#include <Imath/ImathMatrix.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,11 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    return ext;
-}
 
 bool isExr(const std::string& path) { return lowerExtension(path) == ".exr"; }
 
@@ -47,26 +43,10 @@ std::string shellQuoted(const std::string& arg) {
     return out + "'";
 }
 
-// Linear sRGB → bands without clamping (volume/transfer_function.h's linearSrgbToBands clamps
-// at 0): a background colour outside the CIE RGB gamut keeps its exact display colour.
+// Linear sRGB → bands without clamping: a background colour outside the CIE RGB gamut keeps its
+// exact display colour.
 Spectrum srgbToBandsExact(const std::array<double, 3>& rgb) {
-    static const Imath::M33d kInverse = [] {
-        Imath::M33d m;
-        for (int j = 0; j < 3; ++j) {
-            Spectrum unit(0.0);
-            unit[j] = 1.0;
-            const std::array<double, 3> c = bandsToLinearSrgb(unit);
-            for (int i = 0; i < 3; ++i) m[i][j] = c[size_t(i)];
-        }
-        return m.inverse();
-    }();
-    Spectrum out;
-    for (int i = 0; i < 3; ++i) {
-        double v = 0.0;
-        for (int j = 0; j < 3; ++j) v += kInverse[i][j] * rgb[size_t(j)];
-        out[i] = v;
-    }
-    return out;
+    return linearSrgbToBandsUnclamped(rgb[0], rgb[1], rgb[2]);
 }
 
 }  // namespace

@@ -90,4 +90,7 @@ RgbImage readImage(const std::string& path);
 // True for the extensions writeImage accepts.
 bool isSupportedImageExtension(const std::string& path);
 
+// The file name's extension in lower case, with its dot (".png"); empty when there is none.
+std::string lowerExtension(const std::string& path);
+
 }  // namespace lobe

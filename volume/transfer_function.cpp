@@ -10,7 +10,7 @@
 
 namespace lobe {
 
-Spectrum linearSrgbToBands(double r, double g, double b) {
+Spectrum linearSrgbToBandsUnclamped(double r, double g, double b) {
     // bandsToLinearSrgb is linear (a 3×3 matrix, core/spectrum.cpp); recover its columns from the
     // unit band triples and invert once.
     static const Imath::M33d kInverse = [] {
@@ -28,8 +28,14 @@ Spectrum linearSrgbToBands(double r, double g, double b) {
     for (int i = 0; i < 3; ++i) {
         double v = 0.0;
         for (int j = 0; j < 3; ++j) v += kInverse[i][j] * rgb[j];
-        out[i] = std::max(0.0, v);
+        out[i] = v;
     }
+    return out;
+}
+
+Spectrum linearSrgbToBands(double r, double g, double b) {
+    Spectrum out = linearSrgbToBandsUnclamped(r, g, b);
+    for (int i = 0; i < 3; ++i) out[i] = std::max(0.0, out[i]);
     return out;
 }
 

@@ -42,6 +42,9 @@ struct TfPoint {
 
 // Inverse of bandsToLinearSrgb (core/spectrum.h), each band clamped to ≥ 0.
 Spectrum linearSrgbToBands(double r, double g, double b);
+// The same without the clamp: a colour outside the CIE RGB gamut keeps negative bands, so that
+// it displays exactly (a solid image background, apps/figure_output.cpp).
+Spectrum linearSrgbToBandsUnclamped(double r, double g, double b);
 
 // Equation (1): opacity of a step of `stepInVoxels` reference voxel lengths.
 double correctOpacity(double alphaVoxel, double stepInVoxels);

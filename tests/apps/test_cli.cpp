@@ -3,6 +3,7 @@
 // binary (LOBE_EXE) in a shell with its own temporary folder, so parallel ctest processes never
 // share files.
 #include "core/image_output.h"
+#include "cli_harness.h"
 
 #include <gtest/gtest.h>
 
@@ -26,56 +27,17 @@ namespace fs = std::filesystem;
 const std::string kLobe = LOBE_EXE;
 const std::string kSource = LOBE_SOURCE_DIR;
 
-struct CliRun {
-    int exitCode = -1;
-    std::string out, err;
-    int errLines() const {
-        int n = 0;
-        for (char c : err) n += c == '\n';
-        return n;
-    }
-};
-
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using lobe::test::CliRun;
+using lobe::test::quote;
+using lobe::test::readFile;
 
 // A folder of the test's own.
-fs::path testDir() {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "cli" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path testDir() { return lobe::test::testDir("cli"); }
 
 // Runs `lobe ARGS` with `input` on standard input.
 CliRun lobe(const std::string& args, const std::string& input = "") {
-    // Standard streams in files named by the process (ctest runs each test as its own process).
-    const fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "cli" / "_io";
-    fs::create_directories(d);
-    const fs::path in = d / ("in" + std::to_string(::getpid())),
-                   out = d / ("out" + std::to_string(::getpid())),
-                   err = d / ("err" + std::to_string(::getpid()));
-    std::ofstream(in) << input;
-    const std::string cmd = quote(kLobe) + " " + args + " <" + quote(in.string()) + " >" +
-                            quote(out.string()) + " 2>" + quote(err.string());
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readFile(out);
-    r.err = readFile(err);
-    return r;
+    return lobe::test::runShell(quote(kLobe) + " " + args,
+                                fs::path(LOBE_BINARY_DIR) / "test-output" / "cli" / "_io", input);
 }
 
 // ---- lobe brdf ------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 // provenance read back (by OpenImageIO and by `oiiotool --info -v`), the refusals before
 // anything renders, and the warnings for an empty image and an invisible volume.
 #include "core/image_output.h"
+#include "cli_harness.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -24,45 +25,13 @@ namespace fs = std::filesystem;
 const std::string kLobe = LOBE_EXE;
 const std::string kSource = LOBE_SOURCE_DIR;
 
-struct CliRun {
-    int exitCode = -1;
-    std::string out, err;
-};
+using lobe::test::CliRun;
+using lobe::test::quote;
+using lobe::test::readFile;
 
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+fs::path testDir() { return lobe::test::testDir("cli_figure"); }
 
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-fs::path testDir() {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path d = fs::path(LOBE_BINARY_DIR) / "test-output" / "cli_figure" /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
-
-CliRun run(const std::string& command, const fs::path& d) {
-    const std::string cmd = command + " >" + quote((d / "stdout").string()) + " 2>" +
-                            quote((d / "stderr").string()) + " </dev/null";
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readFile(d / "stdout");
-    r.err = readFile(d / "stderr");
-    fs::remove(d / "stdout");
-    fs::remove(d / "stderr");
-    return r;
-}
+CliRun run(const std::string& command, const fs::path& d) { return lobe::test::runShell(command, d); }
 
 CliRun lobe(const std::string& args, const fs::path& d) { return run(quote(kLobe) + " " + args, d); }
 

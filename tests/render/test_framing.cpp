@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "scene_text.h"
 #include "render/framing.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
@@ -27,16 +28,8 @@ void expectNear(const Vec3& a, const Vec3& b, double tol = 1e-9) {
 
 WorldBox cube(const Vec3& c, double r) { return WorldBox{c - Vec3(r), c + Vec3(r)}; }
 
-const std::string kBase = std::string(LOBE_SOURCE_DIR) + "/tests/render";
-
-std::string errorOf(const std::string& text) {
-    try {
-        parseScene(text, kBase, "scene.json");
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+const std::string& kBase = test::kSceneBase;
+using test::errorOf;
 
 // A scene whose source exists (the parser checks existence only) with the given camera and lights.
 std::string sceneWith(const std::string& camera, const std::string& lights = "[]") {

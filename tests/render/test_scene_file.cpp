@@ -1,6 +1,7 @@
 #include "render/scene_file.h"
 
 #include "core/error.h"
+#include "scene_text.h"
 
 #include <gtest/gtest.h>
 
@@ -31,16 +32,8 @@ std::string validScene(const std::string& objectExtra = "", const std::string& b
     })";
 }
 
-const std::string kBase = std::string(LOBE_SOURCE_DIR) + "/tests/render";
-
-std::string errorOf(const std::string& text) {
-    try {
-        parseScene(text, kBase, "scene.json");
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+const std::string& kBase = test::kSceneBase;
+using test::errorOf;
 
 }  // namespace
 
