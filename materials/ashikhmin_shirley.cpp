@@ -20,8 +20,12 @@ Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
     if (!aboveHorizon(wi, wo) || !halfVector(wi, wo, h)) return Spectrum(0.0);
     const double hx2 = h.x * h.x, hy2 = h.y * h.y;
     const double sin2 = hx2 + hy2;
-    const double hDotWi = h.dot(wi);  // > 0 since both directions are above the horizon
+    // h·wi = |wi + wo|/2 ≥ 0 in exact arithmetic, but rounds below 0 when wi ≈ −wo at grazing
+    // angles (a fuzz finding: wi ≈ (0, 1, 2e-57), wo ≈ (0, −1, 3e-32) gave f < 0). There h is
+    // rounding noise and the value has no meaning: 0.
+    const double hDotWi = h.dot(wi);
     const double denom = hDotWi * std::max(wi.z, wo.z);
+    if (!(hDotWi > 0.0) || !(denom > 0.0)) return Spectrum(0.0);
     Spectrum f;
     for (int b = 0; b < kBandCount; ++b) {
         // At h = n, h.z^e = 1 for any e: take e = 1 (h.z = 1) instead of dividing 0 by 0.

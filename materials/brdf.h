@@ -29,10 +29,11 @@ using Brdf = std::variant<Lambert, Phong, Strauss, SchlickLewis, Ward, CookTorra
 constexpr double kMaxBrdfValue = 1e30;
 
 // f(wi, wo) per band in sr⁻¹, without the cosine; wi and wo unit vectors in the local frame.
-// Always finite: NaN (0/0 exactly at the horizon) is 0, values are at most kMaxBrdfValue.
+// Always finite and non-negative: NaN (0/0 exactly at the horizon) is 0, a value rounded below 0
+// is 0, values are at most kMaxBrdfValue.
 inline Spectrum evalBrdf(const Brdf& brdf, const Vec3& wi, const Vec3& wo) {
     Spectrum f = std::visit([&](const auto& model) { return model.eval(wi, wo); }, brdf);
-    for (double& v : f.v) v = std::isnan(v) ? 0.0 : std::min(v, kMaxBrdfValue);
+    for (double& v : f.v) v = std::isnan(v) ? 0.0 : std::clamp(v, 0.0, kMaxBrdfValue);
     return f;
 }
 

@@ -120,6 +120,13 @@ TEST_P(Invariants, SpecialPairs) {
     ASSERT_TRUE(validValue(brdf, n, n));
     ASSERT_TRUE(validValue(brdf, Vec3(1, 0, 0), Vec3(-1, 0, 0)));  // both in the tangent plane
     ASSERT_TRUE(validValue(brdf, Vec3(0, 1, 0), Vec3(0, 1, 0)));
+    // Nearly opposite and grazing (a fuzz_brdf_line finding: h·wi rounded below 0 and
+    // Ashikhmin–Shirley gave f < 0): the model's own value, before evalBrdf's clamps.
+    const Vec3 gi = Vec3(-1, 2.111e57, 4).normalized(), go = Vec3(1e-15, -7, 2e-31).normalized();
+    ASSERT_TRUE(validValue(brdf, gi, go));
+    const Spectrum raw = std::visit([&](const auto& m) { return m.eval(gi, go); }, brdf);
+    for (int b = 0; b < kBandCount; ++b)
+        EXPECT_TRUE(std::isnan(raw[b]) || raw[b] >= 0.0) << brdfName(brdf) << " " << raw[b];
     Rng rng(7, 1);
     for (int i = 0; i < 20000; ++i) {
         Vec3 wi = uniformSphere(rng);
