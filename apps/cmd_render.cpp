@@ -348,14 +348,19 @@ void runRender(const RenderCommand& cmd) {
             if (root) warnInvisibleObjects(*scene);
             RenderStats stats;
             AovImage aovs;
-            AovRequest withAlpha = aov;  // the coverage, for the background and the empty check
-            withAlpha.alpha = true;
+            // The coverage only for a background other than the backdrop: rendering it costs
+            // about a third more render time (rendering 1, 512² × 2 spp: 2.27 -> 3.10 s).
+            AovRequest withAlpha = aov;
+            withAlpha.alpha = spec.background.needsAlpha();
             RenderCost cost;  // --stats (a process's own share under mpirun: not printed)
             const bool withCost = cmd.stats && !cluster::distributed();
             Film film = renderShared(*scene, cmd, withAlpha, aovs, &stats, &progress, 0, -1,
                                      withCost ? &cost : nullptr);
             if (!root) continue;
-            warnIfEmpty(spec, aovs.alpha);
+            // Without the coverage: no hit and no sample anywhere (under mpirun rank 0's counts
+            // are only its share, so it does not judge).
+            warnIfEmpty(spec, aovs.alpha,
+                        cluster::distributed() || stats.surfaceHits > 0 || stats.volumeSamples > 0);
             const ImageChannels extra = passChannels(aov, aovs, spec);
             const FigureResult figure = writeFigure(cmd.figure, spec, base, film, aovs.alpha, extra);
             const RgbImage& rgb = figure.display;

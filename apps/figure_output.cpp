@@ -208,8 +208,8 @@ int warnInvisibleObjects(const RenderScene& scene) {
     return count;
 }
 
-bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha) {
-    if (alpha.empty()) return false;
+bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha, bool objectsSeen) {
+    if (alpha.empty() && objectsSeen) return false;
     for (float a : alpha)
         if (a > 0.0f) return false;
     std::fprintf(stderr,

@@ -81,7 +81,9 @@ std::string commandLine();
 // One line on stderr for every volume object whose transfer function gives opacity 0 to every
 // voxel of its volume; returns how many.
 int warnInvisibleObjects(const RenderScene& scene);
-// One line on stderr when no pixel is covered by any object (every alpha 0); returns whether.
-bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha);
+// One line on stderr when no pixel is covered by any object — every alpha 0 when the coverage
+// was rendered, otherwise no surface hit and no volume sample composited (`objectsSeen` false);
+// returns whether.
+bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha, bool objectsSeen);
 
 }  // namespace lobe
