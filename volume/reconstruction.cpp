@@ -88,10 +88,18 @@ double GridReconstructor::trilinear(const Vec3& p) {
     const int i = int(fx), j = int(fy), k = int(fz);
     const double tx = p.x - fx, ty = p.y - fy, tz = p.z - fz;
     double c[2][2][2];
-    for (int dz = 0; dz < 2; ++dz)
-        for (int dy = 0; dy < 2; ++dy)
-            for (int dx = 0; dx < 2; ++dx)
-                c[dz][dy][dx] = acc_.getValue(openvdb::Coord(i + dx, j + dy, k + dz));
+    if (dense_ && dense_->holds(i, j, k, 2)) {
+        const float* q = dense_->at(i, j, k);
+        const size_t sx = dense_->xStride(), sy = dense_->yStride();
+        for (int dz = 0; dz < 2; ++dz)
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx) c[dz][dy][dx] = q[dx * sx + dy * sy + dz];
+    } else {
+        for (int dz = 0; dz < 2; ++dz)
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx)
+                    c[dz][dy][dx] = acc_.getValue(openvdb::Coord(i + dx, j + dy, k + dz));
+    }
     auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
     const double c00 = lerp(c[0][0][0], c[0][0][1], tx), c01 = lerp(c[0][1][0], c[0][1][1], tx);
     const double c10 = lerp(c[1][0][0], c[1][0][1], tx), c11 = lerp(c[1][1][0], c[1][1][1], tx);
@@ -117,6 +125,14 @@ void GridReconstructor::gather4(int i, int j, int k, Block& f) {
     // voxel by voxel, for ≤ 8 tree look-ups instead of 64 (perf: the 64 accessor look-ups were
     // most of the cost of a cortex sample). Leaf buffers are z-fastest (offset x·64 + y·8 + z),
     // hence the (a, 4b + c) layout of f: runs along z are contiguous in both.
+    if (dense_ && dense_->holds(i, j, k, 4)) {
+        const float* q = dense_->at(i, j, k);
+        const size_t sx = dense_->xStride(), sy = dense_->yStride();
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b)
+                for (int c = 0; c < 4; ++c) f[a][4 * b + c] = q[a * sx + b * sy + c];
+        return;
+    }
     using Leaf = openvdb::FloatGrid::TreeType::LeafNodeType;
     static_assert(Leaf::DIM == 8, "the split below assumes 8³ leaves");
     const int ri = i & 7, rj = j & 7, rk = k & 7;

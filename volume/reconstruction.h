@@ -31,12 +31,15 @@
 //
 // A GridReconstructor holds an OpenVDB ValueAccessor, which caches tree nodes, and the last 4³
 // block of voxel values the B-spline read; it is not thread-safe: make one per thread (they are
-// cheap). The grid's values must not change while a reconstructor reads it.
+// cheap). The grid's values must not change while a reconstructor reads it. Given a dense copy
+// of the grid (volume/dense_field.h), it reads the voxels inside the copy's box from the copy —
+// the same values, hence the same results — and the others from the tree.
 #pragma once
 
 #include <openvdb/openvdb.h>
 
 #include "core/math.h"
+#include "volume/dense_field.h"
 
 namespace lobe {
 
@@ -75,7 +78,8 @@ private:
 
 class GridReconstructor {
 public:
-    explicit GridReconstructor(const openvdb::FloatGrid& grid) : acc_(grid.getConstAccessor()) {}
+    explicit GridReconstructor(const openvdb::FloatGrid& grid, const DenseField* dense = nullptr)
+        : acc_(grid.getConstAccessor()), dense_(dense) {}
 
     double trilinear(const Vec3& p);
     double bspline(const Vec3& p);
@@ -100,6 +104,7 @@ private:
     void gather4(int i, int j, int k, Block& f);
 
     openvdb::FloatGrid::ConstAccessor acc_;
+    const DenseField* dense_;  // may be null
     Block block_;
     openvdb::Coord blockOrigin_;
     bool hasBlock_ = false;

@@ -59,6 +59,12 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                     "handles (2580³); crop the grid to the data, or prune stray active voxels");
     checkFits(bricks * double(1 + 8 * ((b * b * b + 63) / 64)),
               name + ": the empty-space table of an active box of " + span);
+    // Every voxel a sample in the domain reads: floor(p) − 1 … floor(p) + 2 for the B-spline
+    // and for central differences of the trilinear field, p ∈ [lo, hi].
+    const openvdb::CoordBBox denseBox(lo - openvdb::Coord(1), hi + openvdb::Coord(2));
+    const openvdb::Coord dd = denseBox.dim();
+    if (4.0 * double(dd.x()) * double(dd.y()) * double(dd.z()) <= DenseField::kMaxBytes)
+        dense_ = std::make_shared<const DenseField>(*grid_, denseBox);
     for (int a = 0; a < 3; ++a) {
         brickLo_[a] = lo[a];
         brickCount_[a] = (hi[a] - lo[a]) / b + 1;  // covers [lo, hi] (a point at hi included)
@@ -91,7 +97,9 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                 for (int z = z0 - kSupportBelow; z < z0 + b + kSupportAbove; ++z)
                     for (int y = y0 - kSupportBelow; y < y0 + b + kSupportAbove; ++y)
                         for (int x = x0 - kSupportBelow; x < x0 + b + kSupportAbove; ++x) {
-                            const float v = acc.getValue(openvdb::Coord(x, y, z));
+                            const float v = dense_ && dense_->holds(x, y, z, 1)
+                                                ? *dense_->at(x, y, z)
+                                                : acc.getValue(openvdb::Coord(x, y, z));
                             foot[(size_t(z - z0 + kSupportBelow) * fp + (y - y0 + kSupportBelow)) * fp +
                                  (x - x0 + kSupportBelow)] = v;
                             vmin = std::min(vmin, v);
@@ -150,17 +158,59 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                         }
             }
     });
+    computeClearance();
+}
+
+void DvrVolume::computeClearance() {
+    // Chessboard (L∞) distance, in bricks, from every transparent brick to the nearest brick that
+    // is not: the two-pass chamfer transform with unit weights over the 26-neighbourhood, which
+    // is exact for the chessboard metric (Rosenfeld & Pfaltz 1966, "Sequential operations in
+    // digital picture processing", extended to 3-D; Borgefors 1984). Outside the table counts as
+    // transparent: no sample lies there. Saturates at kMaxClearance (a smaller value is only a
+    // shorter jump). Before: 1 = transparent, 0 = not. Jumping past the largest transparent
+    // cube around the brick, not past the brick alone, cut the CThead's T2 render (step 0.25)
+    // from 7.9 to 6.1 CPU s: a ray crossed ~60 air bricks one at a time.
+    const int nx = brickCount_[0], ny = brickCount_[1], nz = brickCount_[2];
+    auto at = [&](int x, int y, int z) -> unsigned char& {
+        return brickTransparent_[(size_t(z) * ny + y) * nx + x];
+    };
+    for (unsigned char& c : brickTransparent_) c = c ? kMaxClearance : 0;
+    // A pass visits bricks in one raster order and relaxes each from its 13 neighbours already
+    // visited in that order (sign = +1: those before it, −1: those after it).
+    auto pass = [&](int sign) {
+        const int z0 = sign > 0 ? 0 : nz - 1, y0 = sign > 0 ? 0 : ny - 1, x0 = sign > 0 ? 0 : nx - 1;
+        for (int z = z0; z >= 0 && z < nz; z += sign)
+            for (int y = y0; y >= 0 && y < ny; y += sign)
+                for (int x = x0; x >= 0 && x < nx; x += sign) {
+                    unsigned char& c = at(x, y, z);
+                    if (c == 0) continue;
+                    int best = c;
+                    for (int dz = -1; dz <= 0; ++dz)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                // The 13 neighbours that precede (x, y, z) in this pass's order.
+                                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+                                const int qx = x + sign * dx, qy = y + sign * dy, qz = z + sign * dz;
+                                if (qx < 0 || qy < 0 || qz < 0 || qx >= nx || qy >= ny || qz >= nz)
+                                    continue;
+                                best = std::min(best, at(qx, qy, qz) + 1);
+                            }
+                    c = (unsigned char)best;
+                }
+    };
+    pass(+1);
+    pass(-1);
 }
 
 double DvrVolume::transparentBrickFraction() const {
     if (brickTransparent_.empty()) return 1.0;
     size_t n = 0;
-    for (unsigned char c : brickTransparent_) n += c;
+    for (unsigned char c : brickTransparent_) n += c ? 1 : 0;
     return double(n) / double(brickTransparent_.size());
 }
 
 VolumeRaySampler::VolumeRaySampler(const DvrVolume& volume)
-    : vol_(&volume), recon_(volume.grid()) {}
+    : vol_(&volume), recon_(volume.grid(), volume.dense()) {}
 
 bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     active_ = false;
@@ -194,6 +244,10 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     jitter_ = std::min(std::max(jitter, 0.0), std::nextafter(1.0, 0.0));
     // Opacity exponent: the world length of one step in reference voxel lengths (header).
     stepRefLengths_ = dt_ * ray.d.length() / g.referenceVoxelLength();
+    lastAlphaVoxel_ = -1.0;
+    for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
+    invDt_ = 1.0 / dt_;
+    kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
     active_ = true;
     return true;
 }
@@ -221,11 +275,12 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
             // Points of an edge brick's clamp may lie outside it: their cell is not tested.
-            int bi[3], bit = 0;
+            int bi[3], cell[3], bit = 0;
             bool inside = true;
             for (int a = 2; a >= 0; --a) {
                 int f = int(p[a]);
                 f -= p[a] < double(f) ? 1 : 0;  // floor, |p| < 2³¹ inside the domain
+                cell[a] = f;
                 const int q = f - v.brickLo_[a];
                 bi[a] = q < 0 ? 0 : std::min(v.brickCount_[a] - 1, q >> v.brickShift_);
                 const int c = q - (bi[a] << v.brickShift_);
@@ -234,30 +289,17 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             }
             const size_t idx =
                 (size_t(bi[2]) * v.brickCount_[1] + bi[1]) * v.brickCount_[0] + bi[0];
-            if (v.brickTransparent_[idx]) {
-                // Exit of this brick's box along the ray, then the first lattice point past it.
-                double tOut = kInf;
-                for (int a = 0; a < 3; ++a) {
-                    if (dIdx_[a] == 0.0) continue;
-                    const double lo = v.brickLo_[a] + double(bi[a]) * b;
-                    const double bound = dIdx_[a] > 0.0 ? lo + b : lo;
-                    tOut = std::min(tOut, (bound - oIdx_[a]) / dIdx_[a]);
-                }
-                long long kNext = k_ + 1;
-                if (std::isfinite(tOut)) {
-                    const double kf = std::ceil((tOut - tEnter_) / dt_ - jitter_);
-                    if (kf > double(kNext)) kNext = kf > 9e18 ? (long long)9e18 : (long long)kf;
-                }
-                // Count only lattice points inside the domain (t ≤ tExit) as skipped.
-                const double kLast = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
-                skipped_ += std::max(0LL, std::min(kNext, (long long)kLast + 1) - k_);
-                k_ = kNext;
+            if (const int clearance = v.brickTransparent_[idx]) {
+                // Past the cube of (2·clearance − 1)³ transparent bricks centred on this one.
+                int lo[3];
+                for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - clearance + 1) * b;
+                jumpPastBox(lo, (2 * clearance - 1) * b);
                 continue;
             }
-            // Cell level, inside the brick.
+            // Cell level, inside the brick: past the cell's box (a cell holds 1 / step lattice
+            // points along a ray: 20 at the paper's step).
             if (inside && (v.cellTransparent_[idx * size_t(v.cellWords_) + (bit >> 6)] >> (bit & 63) & 1)) {
-                ++skipped_;
-                ++k_;
+                jumpPastBox(cell, 1);
                 continue;
             }
         }
@@ -273,11 +315,38 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         s.indexPosition = p;
         s.position = v.geometry_.indexToWorld(p);
         s.value = value;
-        s.alpha = correctOpacity(alphaVoxel, stepRefLengths_);
+        // Runs of equal opacities (a transfer function's plateau) are common: correct once.
+        if (alphaVoxel != lastAlphaVoxel_) {
+            lastAlphaVoxel_ = alphaVoxel;
+            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
+        }
+        s.alpha = lastAlpha_;
         s.colour = colour;
         if (withNormal) addNormal(s);
         return true;
     }
+}
+
+void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {
+    // Exit of the box [lo, lo + size)³ along the ray, then the first lattice point past it. The
+    // jump is conservative: a point that rounding puts on the exit plane, or a hair before it,
+    // is visited (tested again, at the cost of one more step), never passed over — so skipping
+    // passes only points inside the transparent box.
+    double tOut = kInf;
+    for (int a = 0; a < 3; ++a) {
+        if (dIdx_[a] == 0.0) continue;
+        const double bound = dIdx_[a] > 0.0 ? double(lo[a]) + size : double(lo[a]);
+        tOut = std::min(tOut, (bound - oIdx_[a]) * invDIdx_[a]);
+    }
+    long long kNext = k_ + 1;
+    if (std::isfinite(tOut)) {
+        const double x = (tOut - tEnter_) * invDt_ - jitter_;
+        const double kf = std::ceil(x - 1e-9 * std::max(1.0, std::abs(x)));
+        if (kf > double(kNext)) kNext = kf > 9e18 ? (long long)9e18 : (long long)kf;
+    }
+    // Count only lattice points inside the domain (t ≤ tExit) as skipped.
+    skipped_ += std::max(0LL, std::min(kNext, (long long)kLast_ + 1) - k_);
+    k_ = kNext;
 }
 
 void VolumeRaySampler::addNormal(VolumeSample& s) {

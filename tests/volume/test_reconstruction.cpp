@@ -4,6 +4,8 @@
 // approximates, trilinear interpolates), and world-space gradients under anisotropic spacing.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "dvr_test_grids.h"
 #include "volume/reconstruction.h"
 
@@ -95,6 +97,40 @@ TEST(Reconstruction, WorldGradientUnderAnisotropicSpacing) {
                        r.trilinear(geo.worldToIndex(pw - Vec3(0, 0, h)))) /
                       (2 * h);
     EXPECT_NEAR(fd, 0.025, 1e-4);
+}
+
+TEST(Reconstruction, DenseCopyGivesTheSameBits) {
+    // A sparse grid (values on a ball, background 0.25 elsewhere, inactive tiles inside the box)
+    // read through a dense copy of part of it and through the tree alone: every filter returns
+    // the same bits, at points inside the copy, on its edges and outside it.
+    openvdb::initialize();
+    auto grid = openvdb::FloatGrid::create(0.25f);
+    auto acc = grid->getAccessor();
+    for (int k = -20; k <= 20; ++k)
+        for (int j = -20; j <= 20; ++j)
+            for (int i = -20; i <= 20; ++i)
+                if (i * i + j * j + k * k < 300)
+                    acc.setValue(Coord(i, j, k), float(std::sin(0.3 * i) + 0.1 * j * k));
+    const DenseField dense(*grid, openvdb::CoordBBox(Coord(-12, -9, -15), Coord(10, 13, 8)));
+    EXPECT_EQ(dense.bytes(), size_t(23 * 23 * 24) * sizeof(float));
+    GridReconstructor tree(*grid), copy(*grid, &dense);
+    for (int n = 0; n < 4000; ++n) {
+        // Points in [-24, 24]³: the copy, its edges and beyond, the ball and the background.
+        const Vec3 p(-24.0 + 48.0 * std::fmod(n * 0.61803398875, 1.0),
+                     -24.0 + 48.0 * std::fmod(n * 0.41421356237, 1.0),
+                     -24.0 + 48.0 * std::fmod(n * 0.73205080757, 1.0));
+        ASSERT_EQ(tree.trilinear(p), copy.trilinear(p)) << p;
+        ASSERT_EQ(tree.bspline(p), copy.bspline(p)) << p;
+        Vec3 ga, gb;
+        ASSERT_EQ(tree.bsplineWithGradient(p, ga), copy.bsplineWithGradient(p, gb)) << p;
+        ASSERT_EQ(ga, gb) << p;
+        ASSERT_EQ(tree.centralDifferences(p), copy.centralDifferences(p)) << p;
+    }
+    // The copy holds what the tree holds, background included.
+    EXPECT_EQ(*dense.at(0, 0, 0), grid->tree().getValue(Coord(0, 0, 0)));
+    EXPECT_EQ(*dense.at(-12, 13, 8), 0.25f);
+    EXPECT_TRUE(dense.holds(-12, -9, -15, 4));
+    EXPECT_FALSE(dense.holds(8, 0, 0, 4));  // 8 … 11 passes x = 10
 }
 
 }  // namespace

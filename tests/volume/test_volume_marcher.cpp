@@ -7,7 +7,10 @@
 // integrator itself (tests/render/test_hybrid.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "core/rng.h"
 #include "dvr_test_grids.h"
@@ -179,8 +182,11 @@ TEST(VolumeMarcher, OpacityCorrectionMakesStepsAgreeOnSmoothData) {
 
 // Every sample that contributes must be identical with and without skipping (same lattice, same
 // value), and the skipped + reconstructed points must be the points marched without skipping.
+// Rays start on a sphere of `reach` voxels around `centre` and aim within `spread` of it.
 void expectSkippingChangesNoSample(const openvdb::FloatGrid::Ptr& grid, const TransferFunction& tf,
-                                   Reconstruction reconstruction, double step) {
+                                   Reconstruction reconstruction, double step,
+                                   const Vec3& centre = Vec3(20), double reach = 30.0,
+                                   double spread = 4.0) {
     DvrSettings on, off;
     on.reconstruction = off.reconstruction = reconstruction;
     on.stepVoxels = off.stepVoxels = step;
@@ -189,15 +195,13 @@ void expectSkippingChangesNoSample(const openvdb::FloatGrid::Ptr& grid, const Tr
     EXPECT_GT(vOn.transparentBrickFraction(), 0.3);
     long long skipped = 0, evalOn = 0, evalOff = 0, contributing = 0;
     for (int n = 0; n < 100; ++n) {
-        // Rays from random points on a sphere of radius 30 towards random points within 4 voxels
-        // of the centre.
         Rng rng(11, n);
         const Vec3 dir =
             normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
         const Vec3 target =
-            Vec3(20) + 4.0 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+            centre + spread * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
         Ray ray;
-        ray.o = target - 30.0 * dir;
+        ray.o = target - reach * dir;
         ray.d = dir;
         const double jitter = rng.uniform();
         VolumeRaySampler a(vOn), b(vOff);
@@ -249,6 +253,54 @@ TEST(VolumeMarcher, EmptySpaceSkippingChangesNoSample) {
     const TransferFunction low = TransferFunction::cortex(0.1, 0.1);
     expectSkippingChangesNoSample(ball, low, Reconstruction::kTrilinear, 0.1);
     expectSkippingChangesNoSample(ball, low, Reconstruction::kCubicBSpline, 0.1);
+}
+
+// Two small balls in the corners of a 100³ grid of zeros: most bricks are far from any visible
+// one, so the marcher jumps past cubes of many bricks at once.
+openvdb::FloatGrid::Ptr twoBalls() {
+    return test::makeGrid(
+        [](int i, int j, int k) {
+            auto inside = [&](double cx, double cy, double cz, double r) {
+                return (i - cx) * (i - cx) + (j - cy) * (j - cy) + (k - cz) * (k - cz) < r * r;
+            };
+            return inside(15, 15, 15, 6) || inside(80, 70, 60, 5) ? 1.0 : 0.0;
+        },
+        Coord(0), Coord(99));
+}
+
+TEST(VolumeMarcher, BrickClearanceIsTheChessboardDistance) {
+    // Against a brute-force search: for every transparent brick, the largest L∞ distance in
+    // bricks to the nearest brick that is not (capped at 64); 0 for those that are not.
+    DvrSettings set;
+    const DvrVolume vol(twoBalls(), stepTf(0.3), set);
+    const std::array<int, 3> n = vol.brickCounts();
+    std::vector<std::array<int, 3>> visible;
+    for (int z = 0; z < n[2]; ++z)
+        for (int y = 0; y < n[1]; ++y)
+            for (int x = 0; x < n[0]; ++x)
+                if (vol.brickClearance(x, y, z) == 0) visible.push_back({x, y, z});
+    ASSERT_GT(visible.size(), 10u);
+    int largest = 0;
+    for (int z = 0; z < n[2]; ++z)
+        for (int y = 0; y < n[1]; ++y)
+            for (int x = 0; x < n[0]; ++x) {
+                int expected = 64;
+                for (const auto& v : visible)
+                    expected = std::min(expected, std::max({std::abs(x - v[0]), std::abs(y - v[1]),
+                                                            std::abs(z - v[2])}));
+                ASSERT_EQ(vol.brickClearance(x, y, z), expected) << x << " " << y << " " << z;
+                largest = std::max(largest, expected);
+            }
+    EXPECT_GE(largest, 8);  // long jumps exist to be tested below
+}
+
+TEST(VolumeMarcher, LongJumpsChangeNoSample) {
+    // Rays from outside the grid through both balls and the empty space between them.
+    const openvdb::FloatGrid::Ptr grid = twoBalls();
+    for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline}) {
+        expectSkippingChangesNoSample(grid, stepTf(0.3), r, 0.25, Vec3(15), 120.0, 10.0);
+        expectSkippingChangesNoSample(grid, stepTf(0.3), r, 0.05, Vec3(80, 70, 60), 120.0, 8.0);
+    }
 }
 
 TEST(VolumeMarcher, SegmentsKeepTheLattice) {
