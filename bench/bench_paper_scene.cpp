@@ -11,7 +11,8 @@
 //  4. Where the time goes, from renders of the same scene at a smaller size with parts switched
 //     off, all in this one run: full; every BRDF replaced by its Lambert term only (the BRDF
 //     evaluation's share is the difference); no volumes (the volume sampling's share); no
-//     surfaces and no volumes (what is left: camera rays, backdrop, scheduling).
+//     surfaces and no volumes (what is left: camera rays, backdrop, scheduling); --no-split
+//     leaves it out. --step S renders the scene at another volume step (the reference stays).
 // Output: a Markdown report on stdout. Checks before reporting: images finite, the scene covers
 // a plausible part of the image (not just backdrop).
 #include "bench/bench_common.h"
@@ -83,6 +84,8 @@ int main(int argc, char** argv) {
     std::string scenePath = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper/rendering-01.json";
     int threads = 2, size = 1024, spp = 8, lattice = 32, splitSize = 256;
     double roulette = -1.0;  // < 0: the scene's own
+    double step = -1.0;      // < 0: the scene's own
+    bool split = true;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
@@ -93,9 +96,12 @@ int main(int argc, char** argv) {
         else if (a == "--lattice") lattice = std::atoi(next().c_str());
         else if (a == "--split-size") splitSize = std::atoi(next().c_str());
         else if (a == "--roulette") roulette = std::atof(next().c_str());
+        else if (a == "--step") step = std::atof(next().c_str());
+        else if (a == "--no-split") split = false;
         else {
             std::fprintf(stderr, "usage: %s [--scene F] [--threads N] [--size N] [--spp N] "
-                                 "[--lattice N] [--split-size N] [--roulette W]\n", argv[0]);
+                                 "[--lattice N] [--split-size N] [--roulette W] [--step S] "
+                                 "[--no-split]\n", argv[0]);
             return 2;
         }
     }
@@ -104,6 +110,7 @@ int main(int argc, char** argv) {
         spec.width = spec.height = size;
         spec.samplesPerPixel = spp;
         if (roulette >= 0.0) spec.shadingRoulette = roulette;
+        if (step > 0.0) spec.volumeStepVoxels = step;
         std::printf("# Paper scene benchmark\n\nscene `%s`, %d threads, volume step %.3g voxel\n\n",
                     scenePath.c_str(), threads, spec.volumeStepVoxels);
 
@@ -173,6 +180,7 @@ int main(int argc, char** argv) {
                     "relative RMSE **%.2f %%**.\n\n", size, spp, relRmse * 100.0);
 
         // 4. Where the time goes (at splitSize², same spp).
+        if (!split) return 0;
         SceneSpec base = spec;
         base.width = base.height = splitSize;
         SceneSpec lambert = base;

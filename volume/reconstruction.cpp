@@ -67,14 +67,25 @@ Vec3 GridGeometry::gradientToWorld(const Vec3& g) const {
 
 namespace {
 
-// Uniform cubic B-spline weights and derivatives at fraction t (header, de Boor 1978).
-inline void bsplineWeights(double t, double w[4], double dw[4]) {
+// Uniform cubic B-spline weights at fraction t (header, de Boor 1978), and their derivatives.
+// Multiplied by 1/6 rather than divided by 6: twelve divisions were a third of a sample's cost
+// (they differ from the divided weights by at most an ulp; the weights still sum to 1 within
+// rounding).
+constexpr double kSixth = 1.0 / 6.0;
+
+inline void bsplineWeights(double t, double w[4]) {
     const double s = 1.0 - t;
     const double t2 = t * t, t3 = t2 * t;
-    w[0] = s * s * s / 6.0;
-    w[1] = (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0;
-    w[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0;
-    w[3] = t3 / 6.0;
+    w[0] = s * s * s * kSixth;
+    w[1] = (3.0 * t3 - 6.0 * t2 + 4.0) * kSixth;
+    w[2] = (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) * kSixth;
+    w[3] = t3 * kSixth;
+}
+
+inline void bsplineWeights(double t, double w[4], double dw[4]) {
+    bsplineWeights(t, w);
+    const double s = 1.0 - t;
+    const double t2 = t * t;
     dw[0] = -0.5 * s * s;
     dw[1] = 0.5 * (3.0 * t2 - 4.0 * t);
     dw[2] = 0.5 * (-3.0 * t2 + 2.0 * t + 1.0);
@@ -217,10 +228,10 @@ double GridReconstructor::bspline(const Vec3& p) {
     // (so the two return the same bits); the marcher asks for the value at every sample and the
     // gradient only where the transfer function is not transparent.
     const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
-    double wx[4], wy[4], wz[4], dx[4], dy[4], dz[4];
-    bsplineWeights(p.x - fx, wx, dx);
-    bsplineWeights(p.y - fy, wy, dy);
-    bsplineWeights(p.z - fz, wz, dz);
+    double wx[4], wy[4], wz[4];
+    bsplineWeights(p.x - fx, wx);
+    bsplineWeights(p.y - fy, wy);
+    bsplineWeights(p.z - fz, wz);
     const Block& f = block(int(fx) - 1, int(fy) - 1, int(fz) - 1);
     double vx[16];
     for (int r = 0; r < 16; ++r) vx[r] = 0.0;
