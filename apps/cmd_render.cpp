@@ -91,9 +91,11 @@ std::string fileText(const std::string& path) {
 // overrides and --aov set.
 std::string settingsText(const SceneSpec& spec, const std::string& aov) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "%dx%d spp %d seed %llu step %.17g roulette %.17g aov ",
-                  spec.width, spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
-                  spec.volumeStepVoxels, spec.shadingRoulette);
+    std::snprintf(buf, sizeof buf,
+                  "%dx%d spp %d seed %llu step %.17g%s roulette %.17g aov ", spec.width,
+                  spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
+                  spec.volumeStepVoxels, spec.volumePreIntegrated ? " pre-integrated" : "",
+                  spec.shadingRoulette);
     return buf + aov;
 }
 

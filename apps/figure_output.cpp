@@ -120,10 +120,11 @@ std::string commandLine() {
 ImageAttributes provenance(const SceneSpec& spec) {
     char settings[512];
     std::snprintf(settings, sizeof settings,
-                  "%dx%d spp %d seed %llu step_voxels %.17g roulette %.17g exposure %.17g tone %s "
-                  "background %s",
+                  "%dx%d spp %d seed %llu step_voxels %.17g%s roulette %.17g exposure %.17g "
+                  "tone %s background %s",
                   spec.width, spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
-                  spec.volumeStepVoxels, spec.shadingRoulette, spec.exposure, spec.tone.c_str(),
+                  spec.volumeStepVoxels, spec.volumePreIntegrated ? " pre_integrated" : "",
+                  spec.shadingRoulette, spec.exposure, spec.tone.c_str(),
                   spec.background.text.c_str());
     return {{"Software", std::string("Lobe ") + LOBE_VERSION},
             {"lobe:version", LOBE_VERSION},

@@ -24,6 +24,9 @@ void SceneOverrides::addOptions(CLI::App& sub) {
     sub.add_option("--roulette", roulette,
                    "shading roulette threshold in [0, 0.5] (overrides the scenes; 0 shades every "
                    "volume sample, docs/scene-format.md)");
+    sub.add_flag("--pre-integrated", preIntegrated,
+                 "classify volume segments by pre-integration (the same accuracy at a coarser "
+                 "step; docs/scene-format.md)");
     sub.add_flag("--preview", preview,
                  "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win)");
 }
@@ -56,6 +59,7 @@ void SceneOverrides::apply(SceneSpec& spec) const {
         spec.samplesPerPixel = 1;
     if (roulette >= 0.0) spec.shadingRoulette = roulette;
     if (step > 0.0) spec.volumeStepVoxels = step;
+    if (preIntegrated) spec.volumePreIntegrated = true;
     if (seed >= 0) spec.seed = uint64_t(seed);
 }
 

@@ -18,6 +18,7 @@ struct SceneOverrides {
     double roulette = -1.0;  // < 0: the scenes' own
     long long seed = -1;
     bool preview = false;
+    bool preIntegrated = false;  // --pre-integrated: on for every scene
 
     // Adds the options to a subcommand.
     void addOptions(CLI::App& sub);

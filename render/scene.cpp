@@ -258,6 +258,7 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
                                                              : GradientMethod::kCentralDifferences;
             settings.stepVoxels = spec_.volumeStepVoxels;
             settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
+            settings.preIntegrated = spec_.volumePreIntegrated;
             SceneVolume vo;
             vo.spec = &object;
             vo.objectIndex = int(i);

@@ -144,6 +144,9 @@ struct SceneSpec {
     // shaded by Russian roulette (render_scene.cpp): unbiased, less work, a little noise. 0: off.
     double shadingRoulette = 0.03;
     bool emptySpaceSkipping = true;  // volume_marcher.h; off only to time it (same image)
+    // Volume segments classified by pre-integration (volume/pre_integration.h): the same
+    // accuracy at several times the step on narrow transfer functions.
+    bool volumePreIntegrated = false;
     std::vector<ObjectSpec> objects;
 };
 

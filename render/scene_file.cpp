@@ -583,6 +583,7 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         scene.terminationTransmittance = v.number("termination_transmittance", 1e-3, 0.0, 0.5);
         scene.emptySpaceSkipping = v.boolean("empty_space_skipping", true);
         scene.shadingRoulette = v.number("shading_roulette", 0.03, 0.0, 0.5);
+        scene.volumePreIntegrated = v.boolean("pre_integrated", false);
         v.finish();
     }
     if (!r.has("objects")) r.fail("objects", "missing (an array of objects)");

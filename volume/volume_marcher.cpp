@@ -18,6 +18,8 @@ constexpr int kSupportAbove = 2;
 // Margin on a brick's value range before asking the transfer function (guards the rounding of
 // the reconstructed value; header, "Empty-space skipping").
 constexpr double kRangeMargin = 1e-6;
+// Below this step (voxels) the marcher jumps past a transparent cell; at and above it, it steps.
+constexpr double kCellJumpStep = 0.3;
 }  // namespace
 
 DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
@@ -159,6 +161,7 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
             }
     });
     computeClearance();
+    if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
 }
 
 void DvrVolume::computeClearance() {
@@ -245,6 +248,8 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     // Opacity exponent: the world length of one step in reference voxel lengths (header).
     stepRefLengths_ = dt_ * ray.d.length() / g.referenceVoxelLength();
     lastAlphaVoxel_ = -1.0;
+    prevK_ = -2;
+    prevSkippable_ = false;
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
     kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
@@ -263,6 +268,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
     const DvrVolume& v = *vol_;
     const DvrSettings& set = v.settings_;
     const int b = set.brickSize;
+    const bool pre = v.pre_ != nullptr;
     while (true) {
         const double t = tEnter_ + (double(k_) + jitter_) * dt_;
         if (t > tExit_) {
@@ -271,6 +277,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         }
         if (t >= tEnd) return false;
         const Vec3 p = oIdx_ + dIdx_ * t;
+        bool skippable = false;  // this point lies in a transparent brick or cell
         if (set.emptySpaceSkipping) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
@@ -289,38 +296,82 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             }
             const size_t idx =
                 (size_t(bi[2]) * v.brickCount_[1] + bi[1]) * v.brickCount_[0] + bi[0];
+            // With pre-integration the segment that ends at the first point of a transparent
+            // run still starts at a visible one: that point is evaluated ("closing"), the next
+            // ones are skipped.
+            const bool closing = pre && prevK_ == k_ - 1 && !prevSkippable_;
             if (const int clearance = v.brickTransparent_[idx]) {
-                // Past the cube of (2·clearance − 1)³ transparent bricks centred on this one.
-                int lo[3];
-                for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - clearance + 1) * b;
-                jumpPastBox(lo, (2 * clearance - 1) * b);
-                continue;
-            }
-            // Cell level, inside the brick: past the cell's box (a cell holds 1 / step lattice
-            // points along a ray: 20 at the paper's step).
-            if (inside && (v.cellTransparent_[idx * size_t(v.cellWords_) + (bit >> 6)] >> (bit & 63) & 1)) {
-                jumpPastBox(cell, 1);
-                continue;
+                if (!closing) {
+                    // Past the cube of (2·clearance − 1)³ transparent bricks centred on this one.
+                    int lo[3];
+                    for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - clearance + 1) * b;
+                    jumpPastBox(lo, (2 * clearance - 1) * b);
+                    continue;
+                }
+                skippable = true;
+            } else if (inside && (v.cellTransparent_[idx * size_t(v.cellWords_) + (bit >> 6)] >>
+                                      (bit & 63) & 1)) {
+                // Cell level, inside the brick: past the cell's box (a cell holds ~1 / step
+                // lattice points along a ray: 20 at the paper's step). At coarse steps a cell
+                // holds one or two points, and one step is cheaper than computing the jump.
+                if (!closing) {
+                    if (set.stepVoxels < kCellJumpStep) {
+                        jumpPastBox(cell, 1);
+                    } else {
+                        ++skipped_;
+                        ++k_;
+                    }
+                    continue;
+                }
+                skippable = true;
             }
         }
         ++evaluated_;
         const double value = recon_.value(set.reconstruction, p);
-        double alphaVoxel;
+        double alpha;
         Spectrum colour;
-        v.tf_.evaluate(value, alphaVoxel, colour);
-        ++k_;
-        if (!(alphaVoxel > 0.0)) continue;
+        if (pre) {
+            // The segment from the previous lattice point to this one (its value reconstructed
+            // here when that point was skipped; such values are not counted as evaluated).
+            const double front =
+                prevK_ == k_ - 1
+                    ? prevValue_
+                    : recon_.value(set.reconstruction,
+                                   oIdx_ + dIdx_ * (tEnter_ + (double(k_ - 1) + jitter_) * dt_));
+            prevK_ = k_;
+            prevValue_ = value;
+            prevSkippable_ = skippable;
+            double where;
+            v.pre_->segment(front, value, stepRefLengths_, alpha, colour, where);
+            ++k_;
+            if (!(alpha > 0.0)) continue;
+            // The sample sits at the segment's centre of extinction (pre_integration.h).
+            s.t = t - (1.0 - where) * dt_;
+            s.indexPosition = oIdx_ + dIdx_ * s.t;
+            s.position = v.geometry_.indexToWorld(s.indexPosition);
+            s.value = value;
+            s.alpha = alpha;
+            s.colour = colour;
+            if (withNormal) addNormal(s);
+            return true;
+        } else {
+            double alphaVoxel;
+            v.tf_.evaluate(value, alphaVoxel, colour);
+            ++k_;
+            if (!(alphaVoxel > 0.0)) continue;
+            // Runs of equal opacities (a transfer function's plateau) are common: correct once.
+            if (alphaVoxel != lastAlphaVoxel_) {
+                lastAlphaVoxel_ = alphaVoxel;
+                lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
+            }
+            alpha = lastAlpha_;
+        }
 
         s.t = t;
         s.indexPosition = p;
         s.position = v.geometry_.indexToWorld(p);
         s.value = value;
-        // Runs of equal opacities (a transfer function's plateau) are common: correct once.
-        if (alphaVoxel != lastAlphaVoxel_) {
-            lastAlphaVoxel_ = alphaVoxel;
-            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
-        }
-        s.alpha = lastAlpha_;
+        s.alpha = alpha;
         s.colour = colour;
         if (withNormal) addNormal(s);
         return true;
