@@ -186,8 +186,7 @@ struct FigureWriter::Impl {
     std::vector<std::string> paths;
     bool transparent = false;
     std::vector<std::unique_ptr<ImageBandWriter>> files;  // opened with the first band
-    std::unique_ptr<BoxResizer> thumb;
-    int thumbWidth = 0;
+    std::unique_ptr<BoxResizer> thumb;  // the contact-sheet thumbnail, when asked for
     bool covered = false;
 };
 
@@ -200,7 +199,6 @@ FigureWriter::FigureWriter(const FigureOptions& options, const SceneSpec& spec,
     m.base = base;
     m.paths = options.outputPaths(base);
     m.transparent = spec.background.mode == Background::Mode::None;
-    m.thumbWidth = thumbWidth;
     if (thumbWidth > 0) {
         const int h = int(std::lround(double(thumbWidth) * spec.height / std::max(1, spec.width)));
         m.thumb = std::make_unique<BoxResizer>(spec.width, spec.height, thumbWidth, std::max(1, h));
