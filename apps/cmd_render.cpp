@@ -366,8 +366,8 @@ void runRender(const RenderCommand& cmd) {
                 AovImage aovs;
                 RenderStats bandStats;
                 RenderCost bandCost;
-                Film band = renderShared(*scene, cmd, withAlpha, aovs, &bandStats, &progress, y0, y1,
-                                         withCost ? &bandCost : nullptr, true);
+                Film band = renderShared(*scene, cmd, withAlpha, aovs, &bandStats, &progress, y0,
+                                         y1, withCost ? &bandCost : nullptr, true);
                 stats += bandStats;
                 stats.seconds += bandStats.seconds;
                 cost += bandCost;

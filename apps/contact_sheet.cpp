@@ -15,11 +15,13 @@ BoxResizer::BoxResizer(int sourceWidth, int sourceHeight, int width, int height)
     const double sx = double(sourceWidth) / width, sy = double(sourceHeight) / height;
     for (int x = 0; x < width; ++x) {
         x0_.push_back(int(x * sx));
-        x1_.push_back(std::min(sourceWidth, std::max(x0_.back() + 1, int(std::ceil((x + 1) * sx)))));
+        x1_.push_back(
+            std::min(sourceWidth, std::max(x0_.back() + 1, int(std::ceil((x + 1) * sx)))));
     }
     for (int y = 0; y < height; ++y) {
         y0_.push_back(int(y * sy));
-        y1_.push_back(std::min(sourceHeight, std::max(y0_.back() + 1, int(std::ceil((y + 1) * sy)))));
+        y1_.push_back(
+            std::min(sourceHeight, std::max(y0_.back() + 1, int(std::ceil((y + 1) * sy)))));
     }
 }
 

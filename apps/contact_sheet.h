@@ -37,8 +37,9 @@ public:
 private:
     int sourceWidth_, sourceHeight_, width_, height_;
     int nextRow_ = 0;
-    std::vector<int> x0_, x1_, y0_, y1_;  // the source pixels [x0, x1) × [y0, y1) of each destination
-    std::vector<double> sums_;           // [(y · width + x) · 3 + c]
+    // The source pixels [x0, x1) × [y0, y1) each destination pixel covers.
+    std::vector<int> x0_, x1_, y0_, y1_;
+    std::vector<double> sums_;  // [(y · width + x) · 3 + c]
     std::vector<int> counts_;
 };
 

@@ -60,10 +60,11 @@ struct FigureOptions {
 
 // Posters. Unbanded, a render holds about 73 bytes a pixel at once (the film, the EXR's
 // floats, the display image and its 8-bit copy, the coverage): 1.34 GiB at 4096², ~19 GiB at
-// 16384² (docs/performance.md, "Posters"). Above kBandThresholdPixels the image is rendered in bands of about kBandPixels pixels
-// (whole tiles: a multiple of 16 rows), each written to the files as it is finished, so a render
-// holds one band — ~75 MB — whatever the image's size. Below it, one band: small renders keep one
-// pass over the tiles (no wait for a band's last tile). The pixels are the same either way.
+// 16384² (docs/performance.md, "Posters"). Above kBandThresholdPixels the image is rendered in
+// bands of about kBandPixels pixels (whole tiles: a multiple of 16 rows), each written to the
+// files as it is finished, so a render holds one band — ~75 MB — whatever the image's size.
+// Below it, one band: small renders keep one pass over the tiles (no wait for a band's last
+// tile). The pixels are the same either way.
 constexpr long long kBandThresholdPixels = 2048LL * 2048;
 constexpr long long kBandPixels = 1LL << 20;
 // Rows per band for `spec`: `requested` (--band-rows) when > 0, else as above; the image's

@@ -291,7 +291,8 @@ TEST(CliFigure, BandedRenderIsTheWholeRenderBitForBit) {
     EXPECT_EQ(exr.floats[3], 0.0f);
 
     // A colour background into a 16-bit TIFF and its EXR (-o), bands of 3 rows.
-    const std::string colour = "render " + quote(scene) + " --quiet --background '#336699' --png-bits 16 --exr -o ";
+    const std::string colour =
+        "render " + quote(scene) + " --quiet --background '#336699' --png-bits 16 --exr -o ";
     ASSERT_EQ(lobe(colour + quote((d / "whole.tif").string()), d).exitCode, 0);
     ASSERT_EQ(lobe(colour + quote((d / "bands.tif").string()) + " --band-rows 3", d).exitCode, 0);
     expectSamePixels(d / "whole.tif", d / "bands.tif");

@@ -30,7 +30,8 @@ TEST(BoxResizer, BandsGiveTheWholeImagesFloats) {
     // 37 × 29 → 8 × 6 (ratios 4.625 and 4.83: destination rows share source rows), with values
     // whose sums round differently in another order.
     RgbImage image(37, 29);
-    for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = float(1.0 / (1.0 + double(i % 97))) * 1e3f;
+    for (size_t i = 0; i < image.rgb.size(); ++i)
+        image.rgb[i] = float(1.0 / (1.0 + double(i % 97))) * 1e3f;
     const RgbImage whole = lobe::resizeImage(image, 8, 6);
     for (const int bandRows : {1, 3, 5, 29}) {
         lobe::BoxResizer resizer(37, 29, 8, 6);

@@ -317,7 +317,8 @@ TEST(ImageBandWriter, BandsGiveTheSamePixelsAsOneWrite) {
     for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(png[5 * 4 + size_t(c)], std::lround(srgb((5.0 + c) / 40.0) * 255)) << c;
         EXPECT_EQ(png[6 * 4 + size_t(c)], 0.0f) << c;
-        EXPECT_EQ(png[3 * 4 + size_t(c)], std::lround(srgb(double(0.6f * float(3 + c) / 40.0f) / double(0.6f)) * 255)) << c;
+        const double straight = double(0.6f * float(3 + c) / 40.0f) / double(0.6f);
+        EXPECT_EQ(png[3 * 4 + size_t(c)], std::lround(srgb(straight) * 255)) << c;
     }
     EXPECT_EQ(png[5 * 4 + 3], 255.0f);
     EXPECT_EQ(png[3 * 4 + 3], 153.0f);
