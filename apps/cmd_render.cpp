@@ -159,6 +159,22 @@ RgbImage displayFromExr(const std::string& path, const std::string& tone) {
     return rgb;
 }
 
+// The contact-sheet thumbnail of a written EXR — what makeContactSheet(…, thumbWidth) makes of
+// displayFromExr's image, the same floats — read a band at a time, so that a poster already on
+// disk (--skip-existing, lobe merge) is never whole in memory.
+RgbImage thumbnailFromExr(const std::string& path, const std::string& tone, int thumbWidth) {
+    std::unique_ptr<BoxResizer> resizer;
+    forEachRgbBand(path, kBandPixels, [&](RgbImage& band, int height) {
+        if (!resizer) {
+            const int h = int(std::lround(double(thumbWidth) * height / std::max(1, band.width)));
+            resizer = std::make_unique<BoxResizer>(band.width, height, thumbWidth, std::max(1, h));
+        }
+        applyTone(band, tone);
+        resizer->addRows(band);
+    });
+    return resizer->result();
+}
+
 // The EXR channels of the requested per-object passes (none when no pass was asked for).
 ImageChannels passChannels(const AovRequest& aov, const AovImage& aovs, const SceneSpec& spec) {
     ImageChannels extra;
@@ -336,7 +352,8 @@ void runRender(const RenderCommand& cmd) {
                                            [](const std::string& p) { return fs::exists(p); }))) {
             progress.advance(int64_t(spec.width) * spec.height);
             if (inSheet && root)
-                sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
+                sheets[spec.group].push_back(
+                    {thumbnailFromExr(base + ".exr", spec.tone, cmd.sheetThumb), spec.title});
             if (!quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
                                          specs.size(), base.c_str());
             continue;
@@ -507,7 +524,8 @@ void runMerge(const RenderCommand& cmd) {
                         ".part-I-of-N.exr in " + cmd.outDir);
         }
         if (!spec.group.empty() && !cmd.noContactSheets)
-            sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
+            sheets[spec.group].push_back(
+                {thumbnailFromExr(base + ".exr", spec.tone, cmd.sheetThumb), spec.title});
     }
     for (const auto& [group, entries] : sheets) {
         const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();

@@ -380,6 +380,38 @@ ImageAttributes readImageAttributes(const std::string& path) {
     return attributes;
 }
 
+void forEachRgbBand(const std::string& path, long long bandPixels,
+                    const std::function<void(RgbImage&, int)>& fn) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    int channel[3];
+    for (int c = 0; c < 3; ++c) {
+        const auto& names = spec.channelnames;
+        const auto it = std::find(names.begin(), names.end(), std::string(1, "RGB"[c]));
+        if (it == names.end()) throw Error(path + ": no channel " + std::string(1, "RGB"[c]));
+        channel[c] = int(it - names.begin());
+    }
+    // The channels from the first to the last of R, G, B, and R, G, B picked from them.
+    const int first = std::min({channel[0], channel[1], channel[2]});
+    const int count = std::max({channel[0], channel[1], channel[2]}) - first + 1;
+    const int bandRows = int(std::clamp<long long>(bandPixels / std::max(1, spec.width), 1,
+                                                   std::max(1, spec.height)));
+    std::vector<float> rows;
+    for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
+        const int y1 = std::min(spec.height, y0 + bandRows);
+        rows.resize(size_t(spec.width) * size_t(y1 - y0) * size_t(count));
+        if (!in->read_scanlines(0, 0, y0, y1, 0, first, first + count, OIIO::TypeDesc::FLOAT,
+                                rows.data()))
+            throw Error("cannot read image '" + path + "': " + in->geterror());
+        RgbImage band(spec.width, y1 - y0);
+        for (size_t p = 0; p < size_t(spec.width) * size_t(y1 - y0); ++p)
+            for (int c = 0; c < 3; ++c)
+                band.rgb[p * 3 + size_t(c)] = rows[p * size_t(count) + size_t(channel[c] - first)];
+        fn(band, spec.height);
+    }
+}
+
 RgbImage readImage(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());

@@ -13,6 +13,7 @@
 #include "core/film.h"
 #include "core/rgb_image.h"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -122,6 +123,13 @@ struct FloatImage {
 FloatImage readFloatImage(const std::string& path);
 // Writes a FloatImage (an .exr path) with its attributes.
 void writeFloatImage(const std::string& path, const FloatImage& image);
+
+// The R, G, B channels of an image file as stored, in bands of rows of about `bandPixels` pixels
+// (at least one row), top first: fn(band, imageHeight), the band fn's to change. What builds a
+// poster's contact-sheet thumbnail from its EXR without holding the image. Throws lobe::Error
+// naming the path and a missing channel.
+void forEachRgbBand(const std::string& path, long long bandPixels,
+                    const std::function<void(RgbImage& band, int imageHeight)>& fn);
 
 // Reads any image OpenImageIO understands into linear sRGB (8-bit files are decoded from sRGB).
 RgbImage readImage(const std::string& path);

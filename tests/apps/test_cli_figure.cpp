@@ -282,6 +282,11 @@ TEST(CliFigure, BandedRenderIsTheWholeRenderBitForBit) {
         for (const char* file : {"skull.exr", "skull.png", "contact-sheet-poster.png"})
             expectSamePixels(d / "whole" / file, out / file);
     }
+    // A resumed batch builds the sheet from the EXR on disk, a band at a time: the same sheet.
+    fs::rename(d / "whole" / "contact-sheet-poster.png", d / "rendered-sheet.png");
+    const CliRun resumed = lobe(common + "--skip-existing --out " + quote((d / "whole").string()), d);
+    ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
+    EXPECT_EQ(readFile(d / "whole" / "contact-sheet-poster.png"), readFile(d / "rendered-sheet.png"));
     // The comparison means something: coverage 1 at the centre and 0 in the corner, passes there.
     const Stored exr = stored(d / "whole" / "skull.exr");
     const size_t k = exr.names.size();

@@ -324,6 +324,43 @@ TEST(ImageBandWriter, BandsGiveTheSamePixelsAsOneWrite) {
     EXPECT_EQ(png[3 * 4 + 3], 153.0f);
 }
 
+TEST(ImageBandWriter, RgbBandsReadBackAsWritten) {
+    // An EXR with A between B and the bands: R, G, B read back band by band (bands of 14 pixels:
+    // 2 rows of 7, the last of 1) are the floats written, pixel for pixel.
+    const fs::path d = testDir();
+    const Sample7x5 s;
+    lobe::ImageWriteOptions o;
+    o.alpha = &s.alpha;
+    lobe::writeFilmPending((d / "a.exr").string(), s.film, 1.0, {}, o).commit();
+    const std::vector<float> written = lobe::filmChannels(s.film, 1.0, {});  // 6 a pixel
+    std::vector<int> heights;
+    std::vector<float> rgb;
+    lobe::forEachRgbBand((d / "a.exr").string(), 14, [&](lobe::RgbImage& band, int height) {
+        EXPECT_EQ(height, 5);
+        EXPECT_EQ(band.width, 7);
+        heights.push_back(band.height);
+        rgb.insert(rgb.end(), band.rgb.begin(), band.rgb.end());
+    });
+    EXPECT_EQ(heights, (std::vector<int>{2, 2, 1}));
+    ASSERT_EQ(rgb.size(), 35u * 3);
+    for (size_t p = 0; p < 35; ++p)
+        for (size_t c = 0; c < 3; ++c) EXPECT_EQ(rgb[p * 3 + c], written[p * 6 + c]) << p << c;
+    EXPECT_GT(rgb[34 * 3 + 2], 0.0f);  // not all zero
+    // A file without R, G, B channels: one error naming it.
+    lobe::FloatImage bands;
+    bands.width = 2;
+    bands.height = 1;
+    bands.channels.names = {"X", "Y", "Z"};
+    bands.channels.data.assign(6, 0.5f);
+    lobe::writeFloatImage((d / "xyz.exr").string(), bands);
+    try {
+        lobe::forEachRgbBand((d / "xyz.exr").string(), 14, [](lobe::RgbImage&, int) {});
+        ADD_FAILURE() << "no error for an image without R";
+    } catch (const lobe::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("xyz.exr: no channel R"), std::string::npos) << e.what();
+    }
+}
+
 std::string readText(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;
