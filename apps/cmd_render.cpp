@@ -161,6 +161,22 @@ RgbImage displayFromExr(const std::string& path, const std::string& tone) {
     return rgb;
 }
 
+// The contact-sheet thumbnail of a written EXR — what makeContactSheet(…, thumbWidth) makes of
+// displayFromExr's image, the same floats — read a band at a time, so that a poster already on
+// disk (--skip-existing, lobe merge) is never whole in memory.
+RgbImage thumbnailFromExr(const std::string& path, const std::string& tone, int thumbWidth) {
+    std::unique_ptr<BoxResizer> resizer;
+    forEachRgbBand(path, kBandPixels, [&](RgbImage& band, int height) {
+        if (!resizer) {
+            const int h = int(std::lround(double(thumbWidth) * height / std::max(1, band.width)));
+            resizer = std::make_unique<BoxResizer>(band.width, height, thumbWidth, std::max(1, h));
+        }
+        applyTone(band, tone);
+        resizer->addRows(band);
+    });
+    return resizer->result();
+}
+
 // The EXR channels of the requested per-object passes (none when no pass was asked for).
 ImageChannels passChannels(const AovRequest& aov, const AovImage& aovs, const SceneSpec& spec) {
     ImageChannels extra;
@@ -186,9 +202,10 @@ std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
 
 // Renders a loaded scene's image (or its rows [y0, y1)) with the tiles shared among the processes
 // of an mpirun; on rank 0 the result holds every process's pixels.
+// With `bandOnly`, the film holds rows [y0, y1) alone (RenderOptions::bandOnly).
 Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovRequest& aov,
                   AovImage& aovs, RenderStats* stats, ProgressReporter* progress, int y0 = 0,
-                  int y1 = -1, RenderCost* cost = nullptr) {
+                  int y1 = -1, RenderCost* cost = nullptr, bool bandOnly = false) {
     const std::unique_ptr<TileSource> tiles = cluster::sharedTiles();
     RenderOptions options;
     options.threads = cmd.threads;
@@ -198,8 +215,9 @@ Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovR
     options.rowEnd = y1;
     options.tileSource = tiles.get();
     options.cost = cost;
+    options.bandOnly = bandOnly;
     Film film = scene.render(options, stats, &aov, &aovs);
-    cluster::gatherTiles(*tiles, film.width(), pixelBuffers(film, aovs));
+    cluster::gatherTiles(*tiles, film.width(), pixelBuffers(film, aovs), bandOnly ? y0 : 0);
     return film;
 }
 
@@ -336,7 +354,8 @@ void runRender(const RenderCommand& cmd) {
                                            [](const std::string& p) { return fs::exists(p); }))) {
             progress.advance(int64_t(spec.width) * spec.height);
             if (inSheet && root)
-                sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
+                sheets[spec.group].push_back(
+                    {thumbnailFromExr(base + ".exr", spec.tone, cmd.sheetThumb), spec.title});
             if (!quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
                                          specs.size(), base.c_str());
             continue;
@@ -349,22 +368,37 @@ void runRender(const RenderCommand& cmd) {
                             frozenViewJson(scene->spec()).c_str());
             if (root) warnInvisibleObjects(*scene);
             RenderStats stats;
-            AovImage aovs;
             // The coverage only for a background other than the backdrop: rendering it costs
             // about a third more render time (rendering 1, 512² × 2 spp: 2.27 -> 3.10 s).
             AovRequest withAlpha = aov;
             withAlpha.alpha = spec.background.needsAlpha();
             RenderCost cost;  // --stats (a process's own share under mpirun: not printed)
             const bool withCost = cmd.stats && !cluster::distributed();
-            Film film = renderShared(*scene, cmd, withAlpha, aovs, &stats, &progress, 0, -1,
-                                     withCost ? &cost : nullptr);
+            // In bands of rows (a poster: apps/figure_output.h), each written as it is done;
+            // one band for an image up to 2048².
+            std::unique_ptr<FigureWriter> writer;
+            if (root) writer = std::make_unique<FigureWriter>(cmd.figure, spec, base,
+                                                              inSheet ? cmd.sheetThumb : 0);
+            const int bandRows = bandRowsFor(spec, cmd.figure.bandRows);
+            for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
+                const int y1 = std::min(spec.height, y0 + bandRows);
+                AovImage aovs;
+                RenderStats bandStats;
+                RenderCost bandCost;
+                Film band = renderShared(*scene, cmd, withAlpha, aovs, &bandStats, &progress, y0,
+                                         y1, withCost ? &bandCost : nullptr, true);
+                stats += bandStats;
+                stats.seconds += bandStats.seconds;
+                cost += bandCost;
+                if (root) writer->write(band, aovs.alpha, passChannels(aov, aovs, spec));
+            }
             if (!root) continue;
+            const FigureResult figure = writer->finish();
             // Without the coverage: no hit and no sample anywhere (under mpirun rank 0's counts
             // are only its share, so it does not judge).
-            warnIfEmpty(spec, aovs.alpha,
-                        cluster::distributed() || stats.surfaceHits > 0 || stats.volumeSamples > 0);
-            const ImageChannels extra = passChannels(aov, aovs, spec);
-            const FigureResult figure = writeFigure(cmd.figure, spec, base, film, aovs.alpha, extra);
+            warnIfEmpty(spec, withAlpha.alpha ? figure.covered
+                                              : cluster::distributed() || stats.surfaceHits > 0 ||
+                                                    stats.volumeSamples > 0);
             const RgbImage& rgb = figure.display;
             if (!quiet && cluster::distributed())  // rank 0's counts are only its share
                 std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
@@ -492,7 +526,8 @@ void runMerge(const RenderCommand& cmd) {
                         ".part-I-of-N.exr in " + cmd.outDir);
         }
         if (!spec.group.empty() && !cmd.noContactSheets)
-            sheets[spec.group].push_back({displayFromExr(base + ".exr", spec.tone), spec.title});
+            sheets[spec.group].push_back(
+                {thumbnailFromExr(base + ".exr", spec.tone, cmd.sheetThumb), spec.title});
     }
     for (const auto& [group, entries] : sheets) {
         const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();

@@ -1,5 +1,6 @@
 #include "apps/contact_sheet.h"
 
+#include "core/error.h"
 #include "core/image_text.h"
 
 #include <algorithm>
@@ -7,22 +8,58 @@
 
 namespace lobe {
 
-RgbImage resizeImage(const RgbImage& image, int width, int height) {
-    RgbImage out(width, height);
-    const double sx = double(image.width) / width, sy = double(image.height) / height;
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            // Average every source pixel the destination pixel covers (at least one).
-            const int x0 = int(x * sx), x1 = std::max(x0 + 1, int(std::ceil((x + 1) * sx)));
-            const int y0 = int(y * sy), y1 = std::max(y0 + 1, int(std::ceil((y + 1) * sy)));
-            double sum[3] = {0, 0, 0};
-            int count = 0;
-            for (int v = y0; v < std::min(y1, image.height); ++v)
-                for (int u = x0; u < std::min(x1, image.width); ++u, ++count)
-                    for (int c = 0; c < 3; ++c) sum[c] += image.pixel(u, v)[c];
-            for (int c = 0; c < 3; ++c) out.pixel(x, y)[c] = float(sum[c] / std::max(1, count));
+BoxResizer::BoxResizer(int sourceWidth, int sourceHeight, int width, int height)
+    : sourceWidth_(sourceWidth), sourceHeight_(sourceHeight), width_(width), height_(height),
+      sums_(size_t(width) * size_t(height) * 3, 0.0), counts_(size_t(width) * size_t(height), 0) {
+    // Every source pixel the destination pixel covers (at least one).
+    const double sx = double(sourceWidth) / width, sy = double(sourceHeight) / height;
+    for (int x = 0; x < width; ++x) {
+        x0_.push_back(int(x * sx));
+        x1_.push_back(
+            std::min(sourceWidth, std::max(x0_.back() + 1, int(std::ceil((x + 1) * sx)))));
+    }
+    for (int y = 0; y < height; ++y) {
+        y0_.push_back(int(y * sy));
+        y1_.push_back(
+            std::min(sourceHeight, std::max(y0_.back() + 1, int(std::ceil((y + 1) * sy)))));
+    }
+}
+
+void BoxResizer::addRows(const RgbImage& band) {
+    if (band.width != sourceWidth_ || nextRow_ + band.height > sourceHeight_)
+        throw Error("internal: a band of " + std::to_string(band.width) + " x " +
+                    std::to_string(band.height) + " does not continue a " +
+                    std::to_string(sourceWidth_) + " x " + std::to_string(sourceHeight_) + " image");
+    for (int r = 0; r < band.height; ++r) {
+        const int v = nextRow_ + r;
+        // Source rows ascending, and within a row columns ascending: resizeImage's order.
+        for (int y = 0; y < height_; ++y) {
+            if (v < y0_[size_t(y)] || v >= y1_[size_t(y)]) continue;
+            for (int x = 0; x < width_; ++x) {
+                double* sum = &sums_[(size_t(y) * size_t(width_) + size_t(x)) * 3];
+                for (int u = x0_[size_t(x)]; u < x1_[size_t(x)]; ++u) {
+                    const float* p = band.pixel(u, r);
+                    for (int c = 0; c < 3; ++c) sum[c] += p[c];
+                }
+                counts_[size_t(y) * size_t(width_) + size_t(x)] += x1_[size_t(x)] - x0_[size_t(x)];
+            }
         }
+    }
+    nextRow_ += band.height;
+}
+
+RgbImage BoxResizer::result() const {
+    RgbImage out(width_, height_);
+    for (size_t i = 0; i < counts_.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            out.rgb[i * 3 + size_t(c)] = float(sums_[i * 3 + size_t(c)] / std::max(1, counts_[i]));
     return out;
+}
+
+RgbImage resizeImage(const RgbImage& image, int width, int height) {
+    BoxResizer resizer(image.width, image.height, width, height);
+    resizer.addRows(image);
+    return resizer.result();
 }
 
 RgbImage makeContactSheet(const std::vector<ContactSheetEntry>& entries, int columns,

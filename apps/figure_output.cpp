@@ -1,5 +1,6 @@
 #include "apps/figure_output.h"
 
+#include "apps/contact_sheet.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/utf8.h"
@@ -61,6 +62,11 @@ void FigureOptions::addOptions(CLI::App& sub, const std::string& outOption) {
     sub.add_option("--png-bits", pngBits, "bits per channel of PNG (and TIFF) output: 8 or 16")
         ->capture_default_str()
         ->check(CLI::IsMember({8, 16}));
+    sub.add_option("--band-rows", bandRows,
+                   "render and write the image in bands of N rows, holding one band in memory "
+                   "(0: only images above 2048 x 2048 pixels, in bands of about 1 M pixels)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 1 << 20));
     sub.add_option("--background", background,
                    "backdrop (the paper's), none (transparent: alpha in EXR/PNG/TIFF), or a colour "
                    "#rrggbb; overrides the scenes' \"background\" (docs/scene-format.md)");
@@ -70,6 +76,9 @@ void FigureOptions::validate(size_t sceneCount, bool sharded) const {
     if (pngBits != 8 && pngBits != 16) throw Error("--png-bits must be 8 or 16");
     if (!background.empty()) parseBackground(background, "--background");
     if (withExr && output.empty()) throw Error("--exr goes with -o FILE (without -o both are written)");
+    if (bandRows < 0) throw Error("--band-rows must be >= 0");
+    if (bandRows > 0 && sharded)
+        throw Error("--band-rows: not with --shard (a part is a band of rows already)");
     if (output.empty()) return;
     if (sceneCount != 1)
         throw Error("-o " + output + ": names one image, but " + std::to_string(sceneCount) +
@@ -164,33 +173,95 @@ RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const s
     return rgb;
 }
 
-FigureResult writeFigure(const FigureOptions& options, const SceneSpec& spec,
-                         const std::string& base, Film& film, const std::vector<float>& alpha,
-                         const ImageChannels& extra) {
-    compositeBackground(film, alpha, spec.background, spec.exposure);
-    const bool transparent = spec.background.mode == Background::Mode::None;
-    FigureResult result;
-    result.display = displayImage(film, transparent ? &alpha : nullptr, spec.tone, spec.exposure);
-    ImageWriteOptions write;
-    write.attributes = provenance(spec);
-    write.alpha = transparent ? &alpha : nullptr;
+int bandRowsFor(const SceneSpec& spec, int requested) {
+    if (requested > 0) return std::min(requested, spec.height);
+    if (int64_t(spec.width) * spec.height <= kBandThresholdPixels) return spec.height;
+    const int64_t rows = kBandPixels / std::max(1, spec.width) / 16 * 16;  // whole tiles
+    return int(std::clamp<int64_t>(rows, 16, spec.height));
+}
+
+struct FigureWriter::Impl {
+    FigureOptions options;
+    SceneSpec spec;
+    std::string base;
+    std::vector<std::string> paths;
+    bool transparent = false;
+    std::vector<std::unique_ptr<ImageBandWriter>> files;  // opened with the first band
+    std::unique_ptr<BoxResizer> thumb;  // the contact-sheet thumbnail, when asked for
+    bool covered = false;
+};
+
+FigureWriter::FigureWriter(const FigureOptions& options, const SceneSpec& spec,
+                           const std::string& base, int thumbWidth)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.options = options;
+    m.spec = spec;
+    m.base = base;
+    m.paths = options.outputPaths(base);
+    m.transparent = spec.background.mode == Background::Mode::None;
+    if (thumbWidth > 0) {
+        const int h = int(std::lround(double(thumbWidth) * spec.height / std::max(1, spec.width)));
+        m.thumb = std::make_unique<BoxResizer>(spec.width, spec.height, thumbWidth, std::max(1, h));
+    }
+}
+
+FigureWriter::~FigureWriter() = default;
+
+void FigureWriter::write(Film& band, const std::vector<float>& alpha, const ImageChannels& extra) {
+    Impl& m = *impl_;
+    const SceneSpec& spec = m.spec;
+    compositeBackground(band, alpha, spec.background, spec.exposure);
+    for (float a : alpha)
+        if (a > 0.0f) {
+            m.covered = true;
+            break;
+        }
+    if (m.files.empty()) {
+        ImageWriteOptions write;
+        write.attributes = provenance(spec);
+        for (const std::string& path : m.paths) {
+            if (isExr(path)) {
+                m.files.push_back(std::make_unique<ImageBandWriter>(
+                    path, spec.width, spec.height, filmChannelNames(extra), m.transparent, write));
+            } else {
+                ImageWriteOptions integer = write;
+                integer.bits = m.options.pngBits;
+                m.files.push_back(std::make_unique<ImageBandWriter>(
+                    path, spec.width, spec.height, std::vector<std::string>{"R", "G", "B"},
+                    m.transparent, integer));
+            }
+        }
+    }
+    const float* coverage = m.transparent ? alpha.data() : nullptr;
+    if (m.transparent && alpha.size() != size_t(band.width()) * size_t(band.height()))
+        throw Error("internal: no coverage for a transparent background");
+    const RgbImage display =
+        displayImage(band, m.transparent ? &alpha : nullptr, spec.tone, spec.exposure);
+    for (size_t i = 0; i < m.paths.size(); ++i) {
+        if (isExr(m.paths[i])) {
+            const std::vector<float> data = filmChannels(band, spec.exposure, extra);
+            m.files[i]->write(band.height(), data.data(), coverage);
+        } else {
+            m.files[i]->write(band.height(), display.rgb.data(), coverage);
+        }
+    }
+    if (m.thumb) m.thumb->addRows(display);
+}
+
+FigureResult FigureWriter::finish() {
+    Impl& m = *impl_;
     // Every file written before any is put in place: a failed EXR after a good PNG (a full disk)
     // leaves neither. The EXR last: a resumed batch (--skip-existing) takes a scene as done only
     // when all exist.
     std::vector<PendingImage> pending;
-    const std::vector<std::string> paths = options.outputPaths(base);
-    for (const std::string& path : paths) {
-        if (isExr(path)) {
-            pending.push_back(writeFilmPending(path, film, spec.exposure, extra, write));
-        } else {
-            ImageWriteOptions integer = write;
-            integer.bits = options.pngBits;
-            pending.push_back(writeImagePending(path, result.display, integer));
-        }
-    }
+    for (const auto& file : m.files) pending.push_back(file->finish());
     for (PendingImage& p : pending) p.commit();
-    result.written = options.output.empty() ? base + ".png/.exr" : paths.front();
-    if (paths.size() > 1) result.written += " and " + paths.back();
+    FigureResult result;
+    if (m.thumb) result.display = m.thumb->result();
+    result.covered = m.covered;
+    result.written = m.options.output.empty() ? m.base + ".png/.exr" : m.paths.front();
+    if (m.paths.size() > 1) result.written += " and " + m.paths.back();
     return result;
 }
 
@@ -209,10 +280,8 @@ int warnInvisibleObjects(const RenderScene& scene) {
     return count;
 }
 
-bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha, bool objectsSeen) {
-    if (alpha.empty() && objectsSeen) return false;
-    for (float a : alpha)
-        if (a > 0.0f) return false;
+bool warnIfEmpty(const SceneSpec& spec, bool covered) {
+    if (covered) return false;
     std::fprintf(stderr,
                  "lobe: warning: %s: the image is empty: no object covers any pixel (every pixel is "
                  "background; check the camera and the objects)\n",

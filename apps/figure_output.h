@@ -15,6 +15,9 @@
 //      lobe:render_settings  size, samples, seed, step, roulette, background after every override
 //    Non-ASCII characters are written as JSON escapes \uXXXX (the JSON stays the same JSON), so
 //    every value is plain ASCII, as PNG's tEXt chunks require;
+//  - posters in bands of rows (FigureWriter below): an image of more than kBandThresholdPixels
+//    pixels (2048²), or any image with --band-rows N, is rendered a band at a time and each band
+//    written to every output file as it is finished, so memory follows the band, not the image;
 //  - warnings on stderr: a volume object whose transfer function gives opacity 0 to every voxel
 //    of its volume (it cannot be seen), and an image in which no pixel is covered by any object.
 #pragma once
@@ -24,6 +27,7 @@
 #include "core/rgb_image.h"
 #include "render/scene_description.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,6 +44,7 @@ struct FigureOptions {
     bool withExr = false;    // --exr: with -o FILE.png/.jpg/.tif, FILE.exr too
     int pngBits = 8;         // --png-bits
     std::string background;  // --background ("" : each scene's own)
+    int bandRows = 0;        // --band-rows (0: bands only above kBandThresholdPixels)
 
     // Adds -o, --exr, --png-bits and --background to `lobe render` (-o excludes `outOption`).
     void addOptions(CLI::App& sub, const std::string& outOption = "--out");
@@ -53,16 +58,46 @@ struct FigureOptions {
     std::vector<std::string> outputPaths(const std::string& base) const;
 };
 
-// Every output of one render: composites the background colour into `film` (a colour
-// background), writes the files (all or none: temporary names, then renamed) with provenance,
-// and returns the display image (for contact sheets) and a description of what was written.
+// Posters. Unbanded, a render holds about 73 bytes a pixel at once (the film, the EXR's
+// floats, the display image and its 8-bit copy, the coverage): 1.34 GiB at 4096², ~19 GiB at
+// 16384² (docs/performance.md, "Posters"). Above kBandThresholdPixels the image is rendered in
+// bands of about kBandPixels pixels (whole tiles: a multiple of 16 rows), each written to the
+// files as it is finished, so a render holds one band — ~75 MB — whatever the image's size.
+// Below it, one band: small renders keep one pass over the tiles (no wait for a band's last
+// tile). The pixels are the same either way.
+constexpr long long kBandThresholdPixels = 2048LL * 2048;
+constexpr long long kBandPixels = 1LL << 20;
+// Rows per band for `spec`: `requested` (--band-rows) when > 0, else as above; the image's
+// height when it is not banded.
+int bandRowsFor(const SceneSpec& spec, int requested);
+
+// Every output of one render, written band by band: the rows of each band, top first, go to
+// every file as they come (EXR: linear floats with the passes; PNG/JPEG/TIFF: the display
+// encoding), each file under a temporary name opened with the first band; finish() puts all of
+// them in place at once. Destroyed unfinished (a failed render, an error), or on SIGINT/SIGTERM,
+// it removes them: no partial file under a final name, and no file replaced. With a colour
+// background each band's film is composited over it (the film is changed).
 struct FigureResult {
-    RgbImage display;
+    RgbImage display;     // the contact-sheet thumbnail (empty without one)
     std::string written;  // "out/a.png/.exr" or the -o paths
+    bool covered = false; // some pixel has coverage > 0 (when the coverage was rendered)
 };
-FigureResult writeFigure(const FigureOptions& options, const SceneSpec& spec,
-                         const std::string& base, Film& film, const std::vector<float>& alpha,
-                         const ImageChannels& extra);
+class FigureWriter {
+public:
+    // `thumbWidth` > 0: keep the display image box-filtered to that width (what
+    // makeContactSheet(…, thumbWidth) makes of the whole image, the same floats).
+    FigureWriter(const FigureOptions& options, const SceneSpec& spec, const std::string& base,
+                 int thumbWidth = 0);
+    ~FigureWriter();
+    // The next film.height() rows: their film, coverage (when the background needs it, else
+    // empty) and pass channels (the same names every band).
+    void write(Film& band, const std::vector<float>& alpha, const ImageChannels& extra);
+    FigureResult finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 // Film += (1 − alpha) · colour (the background's linear sRGB in bands, divided by the exposure so
 // the display shows it as given). Nothing for other backgrounds.
@@ -81,9 +116,9 @@ std::string commandLine();
 // One line on stderr for every volume object whose transfer function gives opacity 0 to every
 // voxel of its volume; returns how many.
 int warnInvisibleObjects(const RenderScene& scene);
-// One line on stderr when no pixel is covered by any object — every alpha 0 when the coverage
-// was rendered, otherwise no surface hit and no volume sample composited (`objectsSeen` false);
-// returns whether.
-bool warnIfEmpty(const SceneSpec& spec, const std::vector<float>& alpha, bool objectsSeen);
+// One line on stderr when no pixel is covered by any object (`covered` false: every alpha 0
+// when the coverage was rendered, otherwise no surface hit and no volume sample composited);
+// returns whether it warned.
+bool warnIfEmpty(const SceneSpec& spec, bool covered);
 
 }  // namespace lobe

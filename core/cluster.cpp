@@ -61,7 +61,7 @@ int size() { return 1; }
 int firstFailed(bool failed) { return failed ? 0 : -1; }
 bool broadcast(bool value) { return value; }
 std::unique_ptr<TileSource> sharedTiles() { return std::make_unique<LocalTileSource>(); }
-void gatherTiles(const TileSource&, int, const std::vector<PixelBuffer>&) {}
+void gatherTiles(const TileSource&, int, const std::vector<PixelBuffer>&, int) {}
 
 #else
 
@@ -275,7 +275,8 @@ std::unique_ptr<TileSource> sharedTiles() {
 
 // Each other process sends the indices of its tiles, then their pixels buffer by buffer, tile by
 // tile, row by row; rank 0 receives from rank 1, 2, … in turn and copies them into place.
-void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuffer>& buffers) {
+void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuffer>& buffers,
+                 int firstRow) {
     if (g_size == 1) return;
     const auto& shared = static_cast<const ClusterTileSource&>(source);
     const std::vector<Tile>& tiles = shared.tiles();
@@ -290,7 +291,8 @@ void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuf
             for (const PixelBuffer& b : buffers)
                 for (int y = t.y0; y < t.y1; ++y) {
                     const size_t bytes = size_t(t.x1 - t.x0) * b.bytesPerPixel;
-                    fn(b.data + (size_t(y) * size_t(width) + size_t(t.x0)) * b.bytesPerPixel,
+                    fn(b.data + (size_t(y - firstRow) * size_t(width) + size_t(t.x0)) *
+                                    b.bytesPerPixel,
                        offset, bytes);
                     offset += bytes;
                 }

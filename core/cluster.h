@@ -71,8 +71,10 @@ void everywhere(const std::function<void()>& step);
 std::unique_ptr<TileSource> sharedTiles();
 
 // After an image rendered with `source` (from sharedTiles): the pixels of the tiles the other
-// processes rendered are copied into rank 0's buffers (collective). `width` is the image's.
-void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuffer>& buffers);
+// processes rendered are copied into rank 0's buffers (collective). `width` is the image's;
+// the buffers' row 0 is image row `firstRow` (a band of a poster).
+void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuffer>& buffers,
+                 int firstRow = 0);
 
 // Fault injection for the tests: when LOBE_FAULT_RANK names this process's rank, its first tile
 // throws, as a failing process would.

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -29,123 +31,232 @@ std::string temporarySibling(const std::string& path) {
         .string();
 }
 
-PendingImage writePixels(const std::string& path, int width, int height,
-                         const std::vector<std::string>& channelNames, const std::vector<float>& data,
-                         const ImageWriteOptions& options = {}) {
-    const std::string ext = lowerExtension(path);
+// A 64-bit hash of a sequence of samples, eight bytes at a time: what an integer file read back
+// is compared with, so the check needs no copy of the whole image.
+class SampleHash {
+public:
+    void add(const void* data, size_t bytes) {
+        const unsigned char* p = static_cast<const unsigned char*>(data);
+        for (; bytes > 0; ) {
+            uint64_t word = 0;
+            const size_t n = std::min<size_t>(8, bytes);
+            std::memcpy(&word, p, n);
+            h_ = (h_ ^ word) * 1099511628211ull;
+            h_ ^= h_ >> 29;
+            p += n;
+            bytes -= n;
+        }
+    }
+    uint64_t value() const { return h_; }
+
+private:
+    uint64_t h_ = 1469598103934665603ull;
+};
+
+}  // namespace
+
+struct ImageBandWriter::Impl {
+    std::string path, ext;
+    int width = 0, height = 0;
+    int channels = 0;       // floats a pixel in write()
+    bool withAlpha = false;
+    int bits = 8;
+    bool isFloat = false, jpeg = false;
+    OIIO::ImageSpec spec;
+    std::unique_ptr<PendingImage> pending;  // removes the temporary file unless finished
+    std::unique_ptr<OIIO::ImageOutput> output;
+    std::string temporary;
+    int nextRow = 0;
+    SampleHash written;
+    std::vector<float> floats;            // EXR with alpha: A inserted after B
+    std::vector<unsigned char> bytes;     // 8-bit samples
+    std::vector<unsigned short> words;    // 16-bit samples
+
+    [[noreturn]] void fail(const std::string& why) const {
+        throw Error("cannot write '" + path + "': " + why);
+    }
+};
+
+ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
+                                 const std::vector<std::string>& channelNames, bool withAlpha,
+                                 const ImageWriteOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.path = path;
+    m.ext = lowerExtension(path);
+    m.width = width;
+    m.height = height;
+    m.channels = int(channelNames.size());
+    m.withAlpha = withAlpha;
+    m.bits = options.bits;
+    m.isFloat = isFloatFormat(m.ext);
+    m.jpeg = m.ext == ".jpg" || m.ext == ".jpeg";
+    const bool png = m.ext == ".png";
     if (!isSupportedImageExtension(path))
-        throw Error("cannot write '" + path + "': unsupported image extension '" + ext +
+        throw Error("cannot write '" + path + "': unsupported image extension '" + m.ext +
                     "' (use .exr, .png, .tif or .jpg)");
     const fs::path parent = fs::path(path).parent_path();
     if (!parent.empty() && !fs::is_directory(parent))
-        throw Error("cannot write '" + path + "': folder '" + parent.string() + "' does not exist");
-    const bool jpeg = ext == ".jpg" || ext == ".jpeg";
-    const bool png = ext == ".png";
-    const std::vector<float>* alpha = options.alpha;
-    const size_t n = size_t(width) * height;
-    if (alpha && alpha->size() != n)
-        throw Error("cannot write '" + path + "': the alpha channel does not match the image size");
-    if (alpha && jpeg)
-        throw Error("cannot write '" + path + "': JPEG has no alpha channel (write .png, .tif or "
-                    ".exr, or give the image a background colour)");
-    if (options.bits != 8 && !(options.bits == 16 && (png || ext == ".tif" || ext == ".tiff")))
-        throw Error("cannot write '" + path + "': " + std::to_string(options.bits) +
-                    "-bit output is for .png and .tif only (8 or 16 bits)");
+        m.fail("folder '" + parent.string() + "' does not exist");
+    if (withAlpha && m.jpeg)
+        m.fail("JPEG has no alpha channel (write .png, .tif or .exr, or give the image a "
+               "background colour)");
+    if (options.bits != 8 && !(options.bits == 16 && (png || m.ext == ".tif" || m.ext == ".tiff")))
+        m.fail(std::to_string(options.bits) + "-bit output is for .png and .tif only (8 or 16 bits)");
+    if (m.channels < 3 || width < 1 || height < 1) m.fail("an image needs R, G, B and a size");
 
-    const int channels = static_cast<int>(channelNames.size());
-    OIIO::ImageSpec spec;
-    std::vector<unsigned char> bytes;      // 8-bit samples
-    std::vector<unsigned short> words;     // 16-bit samples
-    std::vector<float> floats;             // EXR with alpha: A inserted after B
-    const void* pixels = data.data();
-    if (isFloatFormat(ext)) {
+    if (m.isFloat) {
         std::vector<std::string> names = channelNames;
+        if (withAlpha) names.insert(names.begin() + 3, "A");
+        m.spec = OIIO::ImageSpec(width, height, int(names.size()), OIIO::TypeDesc::FLOAT);
+        m.spec.channelnames = names;
+        if (withAlpha) m.spec.alpha_channel = 3;
+        m.spec.attribute("compression", "zip");
+    } else {
+        m.spec = OIIO::ImageSpec(width, height, withAlpha ? 4 : 3,
+                                 options.bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
+        if (withAlpha) {
+            m.spec.alpha_channel = 3;
+            m.spec.attribute("oiio:UnassociatedAlpha", 1);  // already divided: not again
+        }
+        m.spec.attribute("oiio:ColorSpace", "sRGB");
+        if (m.jpeg) m.spec.attribute("Compression", "jpeg:85");
+    }
+    if (m.isFloat || png)
+        for (const auto& [key, value] : options.attributes) m.spec.attribute(key, value);
+
+    m.temporary = temporarySibling(path);
+    m.pending = std::make_unique<PendingImage>(m.temporary, path);
+    m.output = OIIO::ImageOutput::create(m.temporary);
+    if (!m.output) m.fail(OIIO::geterror());
+    if (!m.output->open(m.temporary, m.spec)) m.fail(m.output->geterror());
+}
+
+ImageBandWriter::~ImageBandWriter() {
+    // A PNG closed short of its rows makes libpng print "No IDATs written into file" to stderr
+    // beside the real error; the file is removed either way, so its remaining rows are written
+    // as zeros (deflated at once) to close it quietly. The other formats close quietly.
+    Impl& m = *impl_;
+    if (!m.output || m.ext != ".png") return;
+    const int band = std::max(1, int((size_t(1) << 20) / size_t(m.width)));
+    const std::vector<unsigned char> zeros(size_t(m.width) * size_t(band) *
+                                           size_t(m.spec.nchannels) * m.spec.format.size());
+    for (bool ok = true; ok && m.nextRow < m.height; m.nextRow += band)
+        ok = m.output->write_scanlines(m.nextRow, std::min(m.height, m.nextRow + band), 0,
+                                       m.spec.format, zeros.data());
+}
+
+int ImageBandWriter::rowsWritten() const { return impl_->nextRow; }
+
+void ImageBandWriter::write(int rows, const float* data, const float* alpha) {
+    Impl& m = *impl_;
+    if (!m.output) m.fail("internal: rows written after the file was finished");
+    if (rows < 0 || m.nextRow + rows > m.height)
+        m.fail("internal: rows " + std::to_string(m.nextRow) + " + " + std::to_string(rows) +
+               " beyond the image's " + std::to_string(m.height));
+    if (m.withAlpha != (alpha != nullptr)) m.fail("internal: alpha given to an image without it");
+    const size_t n = size_t(m.width) * size_t(rows);
+    const size_t channels = size_t(m.channels);
+    const void* pixels = data;
+    if (m.isFloat) {
         if (alpha) {
-            names.insert(names.begin() + 3, "A");
-            floats.resize(n * size_t(channels + 1));
+            m.floats.resize(n * (channels + 1));
             for (size_t i = 0; i < n; ++i) {
-                const float* src = &data[i * size_t(channels)];
-                float* dst = &floats[i * size_t(channels + 1)];
+                const float* src = &data[i * channels];
+                float* dst = &m.floats[i * (channels + 1)];
                 std::copy(src, src + 3, dst);
-                dst[3] = std::isfinite((*alpha)[i]) ? std::clamp((*alpha)[i], 0.0f, 1.0f) : 0.0f;
+                dst[3] = std::isfinite(alpha[i]) ? std::clamp(alpha[i], 0.0f, 1.0f) : 0.0f;
                 std::copy(src + 3, src + channels, dst + 4);
             }
-            pixels = floats.data();
+            pixels = m.floats.data();
         }
-        spec = OIIO::ImageSpec(width, height, int(names.size()), OIIO::TypeDesc::FLOAT);
-        spec.channelnames = names;
-        if (alpha) spec.alpha_channel = 3;
-        spec.attribute("compression", "zip");
     } else {
         // Integer formats get the display encoding and only the colour channels (and alpha);
         // with alpha the colour is divided by it (straight alpha), 0 where nothing covers.
         const int out = alpha ? 4 : 3;
-        const double scale = options.bits == 16 ? 65535.0 : 255.0;
-        if (options.bits == 16) words.resize(n * size_t(out));
-        else bytes.resize(n * size_t(out));
+        const double scale = m.bits == 16 ? 65535.0 : 255.0;
+        if (m.bits == 16) m.words.resize(n * size_t(out));
+        else m.bytes.resize(n * size_t(out));
         for (size_t i = 0; i < n; ++i) {
             double a = 1.0;
-            if (alpha) a = std::isfinite((*alpha)[i]) ? std::clamp(double((*alpha)[i]), 0.0, 1.0) : 0.0;
+            if (alpha) a = std::isfinite(alpha[i]) ? std::clamp(double(alpha[i]), 0.0, 1.0) : 0.0;
             for (int c = 0; c < out; ++c) {
                 double v;
                 if (c == 3) {
                     v = a;
                 } else {
-                    const double premultiplied = data[i * size_t(channels) + size_t(c)];
+                    const double premultiplied = data[i * channels + size_t(c)];
                     const double straight = !alpha ? premultiplied : a > 0.0 ? premultiplied / a : 0.0;
                     v = srgbEncode(std::isfinite(straight) ? straight : 0.0);
                 }
                 const long q = std::lround(v * scale);
-                if (options.bits == 16) words[i * size_t(out) + size_t(c)] = static_cast<unsigned short>(q);
-                else bytes[i * size_t(out) + size_t(c)] = static_cast<unsigned char>(q);
+                if (m.bits == 16) m.words[i * size_t(out) + size_t(c)] = static_cast<unsigned short>(q);
+                else m.bytes[i * size_t(out) + size_t(c)] = static_cast<unsigned char>(q);
             }
         }
-        spec = OIIO::ImageSpec(width, height, out,
-                               options.bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
-        if (alpha) {
-            spec.alpha_channel = 3;
-            spec.attribute("oiio:UnassociatedAlpha", 1);  // already divided: not again
+        if (m.bits == 16) {
+            m.written.add(m.words.data(), m.words.size() * sizeof(unsigned short));
+            pixels = m.words.data();
+        } else {
+            m.written.add(m.bytes.data(), m.bytes.size());
+            pixels = m.bytes.data();
         }
-        pixels = options.bits == 16 ? static_cast<const void*>(words.data()) : bytes.data();
-        spec.attribute("oiio:ColorSpace", "sRGB");
-        if (jpeg) spec.attribute("Compression", "jpeg:85");
     }
-    if (isFloatFormat(ext) || png)
-        for (const auto& [key, value] : options.attributes) spec.attribute(key, value);
+    if (rows > 0 && !m.output->write_scanlines(m.nextRow, m.nextRow + rows, 0, m.spec.format, pixels))
+        m.fail(m.output->geterror());
+    m.nextRow += rows;
+}
 
-    const std::string tmp = temporarySibling(path);
-    PendingImage pending(tmp, path);  // removes tmp unless committed
-    auto output = OIIO::ImageOutput::create(tmp);
-    if (!output) throw Error("cannot write '" + path + "': " + OIIO::geterror());
-    bool ok = output->open(tmp, spec);
-    ok = ok && output->write_image(spec.format, pixels);
-    ok = output->close() && ok;
-    if (!ok) throw Error("cannot write '" + path + "': " + output->geterror());
+PendingImage ImageBandWriter::finish() {
+    Impl& m = *impl_;
+    if (!m.output) m.fail("internal: finished twice");
+    if (m.nextRow != m.height)
+        m.fail("internal: " + std::to_string(m.nextRow) + " of " + std::to_string(m.height) +
+               " rows written");
+    const bool closed = m.output->close();
+    const std::string error = closed ? "" : m.output->geterror();
+    m.output.reset();
+    if (!closed) m.fail(error);
     // OpenImageIO's PNG, JPEG and TIFF writers do not report a short write (a full disk left a
-    // truncated PNG and exit 0); the file is read back instead, and a lossless one compared
-    // sample for sample (a few ms for a 1024² PNG).
-    if (!isFloatFormat(ext)) {
+    // truncated PNG and exit 0); the file is read back instead, band by band, and a lossless one
+    // compared sample for sample through a hash of the samples written (a few ms for a 1024² PNG).
+    if (!m.isFloat) {
         OIIO::ImageSpec config;
         config.attribute("oiio:UnassociatedAlpha", 1);  // as written, not premultiplied again
-        auto in = OIIO::ImageInput::open(tmp, &config);
-        const int out = spec.nchannels;
-        bool read = in && in->spec().width == width && in->spec().height == height &&
+        auto in = OIIO::ImageInput::open(m.temporary, &config);
+        const int out = m.spec.nchannels;
+        bool read = in && in->spec().width == m.width && in->spec().height == m.height &&
                     in->spec().nchannels == out;
-        bool same = true;
-        if (read && options.bits == 16) {
-            std::vector<unsigned short> back(words.size());
-            read = in->read_image(0, 0, 0, out, OIIO::TypeDesc::UINT16, back.data());
-            same = back == words;
-        } else if (read) {
-            std::vector<unsigned char> back(bytes.size());
-            read = in->read_image(0, 0, 0, out, OIIO::TypeDesc::UINT8, back.data());
-            same = back == bytes;
+        SampleHash back;
+        const size_t sampleBytes = m.bits == 16 ? 2 : 1;
+        const int band = std::max(1, int((size_t(1) << 22) / size_t(m.width)));
+        std::vector<unsigned char> buffer;
+        for (int y0 = 0; read && y0 < m.height; y0 += band) {
+            const int y1 = std::min(m.height, y0 + band);
+            buffer.resize(size_t(m.width) * size_t(y1 - y0) * size_t(out) * sampleBytes);
+            read = in->read_scanlines(0, 0, y0, y1, 0, 0, out, m.spec.format, buffer.data());
+            back.add(buffer.data(), buffer.size());
         }
         if (in) in->close();
-        if (!read || (!jpeg && !same))
-            throw Error("cannot write '" + path + "': the file written is incomplete (a full disk?)");
+        if (!read || (!m.jpeg && back.value() != m.written.value()))
+            m.fail("the file written is incomplete (a full disk?)");
     }
-    return pending;
+    PendingImage done = std::move(*m.pending);
+    m.pending.reset();
+    return done;
+}
+
+namespace {
+
+PendingImage writePixels(const std::string& path, int width, int height,
+                         const std::vector<std::string>& channelNames, const std::vector<float>& data,
+                         const ImageWriteOptions& options = {}) {
+    const std::vector<float>* alpha = options.alpha;
+    if (alpha && alpha->size() != size_t(width) * size_t(height))
+        throw Error("cannot write '" + path + "': the alpha channel does not match the image size");
+    ImageBandWriter writer(path, width, height, channelNames, alpha != nullptr, options);
+    writer.write(height, data.data(), alpha ? alpha->data() : nullptr);
+    return writer.finish();
 }
 
 }  // namespace
@@ -198,13 +309,17 @@ PendingImage writeFilmPending(const std::string& path, const Film& film, double 
     return writeFilmPending(path, film, exposure, extra, options);
 }
 
-PendingImage writeFilmPending(const std::string& path, const Film& film, double exposure,
-                              const ImageChannels& extra, const ImageWriteOptions& options) {
+std::vector<std::string> filmChannelNames(const ImageChannels& extra) {
+    std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};
+    names.insert(names.end(), extra.names.begin(), extra.names.end());
+    return names;
+}
+
+std::vector<float> filmChannels(const Film& film, double exposure, const ImageChannels& extra) {
     const RgbImage rgb = filmToRgb(film, exposure);
     const size_t n = size_t(film.width()) * film.height();
     const size_t k = extra.names.size();
-    if (extra.data.size() != n * k)
-        throw Error("cannot write '" + path + "': extra channels do not match the image size");
+    if (extra.data.size() != n * k) throw Error("internal: extra channels do not match the image size");
     const size_t stride = 6 + k;
     std::vector<float> data(n * stride);
     for (size_t i = 0; i < n; ++i) {
@@ -219,9 +334,15 @@ PendingImage writeFilmPending(const std::string& path, const Film& film, double 
             data[i * stride + 6 + c] = imageFloat(v);
         }
     }
-    std::vector<std::string> names = {"R", "G", "B", "band.700", "band.546_1", "band.435_8"};
-    names.insert(names.end(), extra.names.begin(), extra.names.end());
-    return writePixels(path, film.width(), film.height(), names, data, options);
+    return data;
+}
+
+PendingImage writeFilmPending(const std::string& path, const Film& film, double exposure,
+                              const ImageChannels& extra, const ImageWriteOptions& options) {
+    if (extra.data.size() != size_t(film.width()) * film.height() * extra.names.size())
+        throw Error("cannot write '" + path + "': extra channels do not match the image size");
+    return writePixels(path, film.width(), film.height(), filmChannelNames(extra),
+                       filmChannels(film, exposure, extra), options);
 }
 
 FloatImage readFloatImage(const std::string& path) {
@@ -257,6 +378,38 @@ ImageAttributes readImageAttributes(const std::string& path) {
     for (const OIIO::ParamValue& p : in->spec().extra_attribs)
         if (p.type() == OIIO::TypeDesc::STRING) attributes[p.name().string()] = p.get_string();
     return attributes;
+}
+
+void forEachRgbBand(const std::string& path, long long bandPixels,
+                    const std::function<void(RgbImage&, int)>& fn) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    int channel[3];
+    for (int c = 0; c < 3; ++c) {
+        const auto& names = spec.channelnames;
+        const auto it = std::find(names.begin(), names.end(), std::string(1, "RGB"[c]));
+        if (it == names.end()) throw Error(path + ": no channel " + std::string(1, "RGB"[c]));
+        channel[c] = int(it - names.begin());
+    }
+    // The channels from the first to the last of R, G, B, and R, G, B picked from them.
+    const int first = std::min({channel[0], channel[1], channel[2]});
+    const int count = std::max({channel[0], channel[1], channel[2]}) - first + 1;
+    const int bandRows = int(std::clamp<long long>(bandPixels / std::max(1, spec.width), 1,
+                                                   std::max(1, spec.height)));
+    std::vector<float> rows;
+    for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
+        const int y1 = std::min(spec.height, y0 + bandRows);
+        rows.resize(size_t(spec.width) * size_t(y1 - y0) * size_t(count));
+        if (!in->read_scanlines(0, 0, y0, y1, 0, first, first + count, OIIO::TypeDesc::FLOAT,
+                                rows.data()))
+            throw Error("cannot read image '" + path + "': " + in->geterror());
+        RgbImage band(spec.width, y1 - y0);
+        for (size_t p = 0; p < size_t(spec.width) * size_t(y1 - y0); ++p)
+            for (int c = 0; c < 3; ++c)
+                band.rgb[p * 3 + size_t(c)] = rows[p * size_t(count) + size_t(channel[c] - first)];
+        fn(band, spec.height);
+    }
 }
 
 RgbImage readImage(const std::string& path) {

@@ -13,6 +13,7 @@
 #include "core/film.h"
 #include "core/rgb_image.h"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -55,6 +56,45 @@ private:
     std::unique_ptr<class RemovedOnInterrupt> guard_;
 };
 
+// An image file written band by band — rows in order, top first — under a temporary name beside
+// its path: a poster's rows are written as they are rendered and never held at once. The
+// whole-image writers below are one band of it, so both give the same file.
+//  - channelNames: the floats of each pixel given to write(). An EXR stores them all; PNG, TIFF
+//    and JPEG take the first three as linear sRGB and encode them (options.bits).
+//  - withAlpha: write() also takes the coverage, stored as channel A (the colour given is
+//    premultiplied by it); options.alpha is ignored here.
+// The constructor opens the temporary file; it throws lobe::Error naming the path for an
+// unsupported extension, a missing folder, alpha in a JPEG or a bit depth the format lacks.
+// Destroyed before finish() (an error, a failed render), the temporary file is removed, and on
+// SIGINT/SIGTERM too (core/interrupt.h): no partial file is left under any name.
+class ImageBandWriter {
+public:
+    ImageBandWriter(const std::string& path, int width, int height,
+                    const std::vector<std::string>& channelNames, bool withAlpha,
+                    const ImageWriteOptions& options = {});
+    ~ImageBandWriter();
+    ImageBandWriter(const ImageBandWriter&) = delete;
+    ImageBandWriter& operator=(const ImageBandWriter&) = delete;
+
+    // The next `rows` rows: rows · width · channelNames.size() floats, and rows · width
+    // coverages when the image has alpha (null otherwise).
+    void write(int rows, const float* data, const float* alpha = nullptr);
+    int rowsWritten() const;
+    // After the last row: closes the file and checks it — PNG, TIFF and JPEG are read back band
+    // by band, a lossless one compared with what was written (a full disk shows there) — and
+    // returns it pending (not yet in place).
+    [[nodiscard]] PendingImage finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// A film's EXR channels: R, G, B (linear sRGB × exposure), the three bands × exposure, then
+// `extra`'s; the floats interleaved per pixel, as the writers take them.
+std::vector<std::string> filmChannelNames(const ImageChannels& extra);
+std::vector<float> filmChannels(const Film& film, double exposure, const ImageChannels& extra);
+
 // Throws lobe::Error naming the path when the extension is unsupported or writing fails.
 void writeImage(const std::string& path, const RgbImage& image);
 // `extra` channels (an EXR only; ignored by 8-bit formats) follow R, G, B and the bands.
@@ -83,6 +123,13 @@ struct FloatImage {
 FloatImage readFloatImage(const std::string& path);
 // Writes a FloatImage (an .exr path) with its attributes.
 void writeFloatImage(const std::string& path, const FloatImage& image);
+
+// The R, G, B channels of an image file as stored, in bands of rows of about `bandPixels` pixels
+// (at least one row), top first: fn(band, imageHeight), the band fn's to change. What builds a
+// poster's contact-sheet thumbnail from its EXR without holding the image. Throws lobe::Error
+// naming the path and a missing channel.
+void forEachRgbBand(const std::string& path, long long bandPixels,
+                    const std::function<void(RgbImage& band, int imageHeight)>& fn);
 
 // Reads any image OpenImageIO understands into linear sRGB (8-bit files are decoded from sRGB).
 RgbImage readImage(const std::string& path);

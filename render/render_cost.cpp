@@ -67,6 +67,18 @@ void RenderCost::add(const CostCounters& t) {
     }
 }
 
+RenderCost& RenderCost::operator+=(const RenderCost& o) {
+    wallSeconds += o.wallSeconds;
+    cpuSeconds += o.cpuSeconds;
+    surfaces += o.surfaces;
+    volumes += o.volumes;
+    shading += o.shading;
+    other += o.other;
+    if (objects.size() < o.objects.size()) objects.resize(o.objects.size());
+    for (size_t i = 0; i < o.objects.size(); ++i) objects[i] += o.objects[i];
+    return *this;
+}
+
 long long RenderCost::brdfEvaluations() const {
     long long n = 0;
     for (const ObjectCost& o : objects) n += o.brdfEvaluations;

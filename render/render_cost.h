@@ -71,6 +71,8 @@ struct RenderCost {
 
     // Adds one thread's counters, converted to CPU seconds.
     void add(const CostCounters& thread);
+    // Adds another render's cost (the bands of a poster are renders of their own).
+    RenderCost& operator+=(const RenderCost& other);
     long long brdfEvaluations() const;
 };
 

@@ -6,6 +6,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include <algorithm>
 #include <chrono>
 
 namespace lobe {
@@ -59,10 +60,16 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     if (aov && (aov->objects || aov->backdrop || aov->depth || aov->normal || aov->topObject ||
                 !aov->models.empty()))
         bytesPerPixel += 4.0 * (8 + double(spec.objects.size()) * (6 + 10));
-    checkFits(double(spec.width) * spec.height * bytesPerPixel,
-              spec.path + ": a " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
-                  " image");
-    Film film(spec.width, spec.height);
+    // A band: rows [rowBegin, rowEnd) alone, film row 0 = image row `firstRow`.
+    const int firstRow = options.bandOnly ? std::clamp(options.rowBegin, 0, spec.height) : 0;
+    const int lastRow =
+        options.bandOnly && options.rowEnd >= 0 ? std::clamp(options.rowEnd, firstRow, spec.height)
+                                                : spec.height;
+    const int filmRows = options.bandOnly ? lastRow - firstRow : spec.height;
+    checkFits(double(spec.width) * filmRows * bytesPerPixel,
+              spec.path + ": a " + std::to_string(spec.width) + " x " + std::to_string(filmRows) +
+                  (options.bandOnly ? " band" : " image"));
+    Film film(spec.width, filmRows);
     const int objectCount = int(spec.objects.size());
     tbb::enumerable_thread_specific<TraceState> states([&] {
         TraceState st = integrator_.newState();
@@ -71,7 +78,7 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     });
     tbb::enumerable_thread_specific<RenderStats> stats;
     const bool withAovs = aov && aovs && aov->any();
-    if (withAovs) *aovs = makeAovImage(*aov, spec.width, spec.height, objectCount);
+    if (withAovs) *aovs = makeAovImage(*aov, spec.width, filmRows, objectCount);
     static const AovRequest kNoPasses;
     const AovRequest& request = withAovs ? *aov : kNoPasses;
     tbb::enumerable_thread_specific<AovAccumulator> accumulators(
@@ -86,22 +93,22 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
     scheduler.rowBegin = options.rowBegin;
     scheduler.rowEnd = options.rowEnd;
     scheduler.tileSource = options.tileSource;
-    forEachPixel(film.width(), film.height(), samplingOf(spec), scheduler,
+    forEachPixel(spec.width, spec.height, samplingOf(spec), scheduler,
                  [&](const PixelSamples& samples) {
                      TraceState& st = states.local();
                      // With options.cost the pixel is timed, for its thread's CPU/wall ratio.
                      if (options.cost && !st.cost.started()) st.cost.start();
                      const double wall0 = options.cost ? steadySeconds() : 0.0;
+                     const int row = samples.y() - firstRow;
                      if (!withAovs) {
-                         film.at(samples.x(), samples.y()) =
+                         film.at(samples.x(), row) =
                              pixelValue(scene_, integrator_, samples, st, stats.local());
                      } else {
                          AovAccumulator& acc = accumulators.local();
-                         film.at(samples.x(), samples.y()) =
+                         film.at(samples.x(), row) =
                              pixelValue(scene_, integrator_, samples, st, stats.local(), &acc);
                          acc.finishPixel(samples.count(),
-                                         size_t(samples.y()) * spec.width + size_t(samples.x()),
-                                         *aovs);
+                                         size_t(row) * spec.width + size_t(samples.x()), *aovs);
                      }
                      if (options.cost) st.cost.pixelSeconds += steadySeconds() - wall0;
                  });

@@ -23,6 +23,10 @@ struct RenderOptions {
     std::string label = "render";
     ProgressReporter* sharedProgress = nullptr;  // see core/tile_scheduler.h
     int rowBegin = 0, rowEnd = -1;               // render only these rows (a shard; others 0)
+    // With rows given: the film (and the passes) hold only rows [rowBegin, rowEnd), its row 0
+    // being image row rowBegin — one band of a poster (apps/figure_output.h), whose memory is
+    // the band's, not the image's. The pixels are the same as in the whole image.
+    bool bandOnly = false;
     TileSource* tileSource = nullptr;            // tiles shared with other processes (core/cluster.h)
     // When set, the render also counts BRDF evaluations per object and times its parts into
     // *cost (render/render_cost.h); the image is the same with or without.

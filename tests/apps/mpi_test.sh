@@ -2,7 +2,8 @@
 # `lobe render` under mpirun equals the single-process render: the same pixels in every EXR
 # channel and PNG (idiff with no tolerance; the files differ in OpenImageIO's DateTime and in the
 # command line of their provenance), the same contact-sheet bytes, for 2 processes × all threads and 3 processes × 1 thread. A rank
-# that fails ends the run with its message and no output; bad input is one message.
+# that fails ends the run with its message and no output; bad input is one message. The same in
+# bands of rows (--band-rows, apps/figure_output.h).
 # Usage: mpi_test.sh LOBE MPIRUN SOURCE_DIR WORK_DIR
 set -euo pipefail
 lobe=$1 mpirun_bin=$2 src=$3 work=$4
@@ -18,7 +19,9 @@ fail() { echo "mpi test: $*" >&2; exit 1; }
 "$lobe" render "${scenes[@]}" "${settings[@]}" --out ref
 "${mpi[@]}" -n 2 "$lobe" render "${scenes[@]}" "${settings[@]}" --out n2
 "${mpi[@]}" -n 3 "$lobe" render "${scenes[@]}" "${settings[@]}" --threads 1 --out n3
-for run in n2 n3; do
+# In bands of 5 rows (a poster's way: each band's tiles shared and gathered, then written).
+"${mpi[@]}" -n 2 "$lobe" render "${scenes[@]}" "${settings[@]}" --band-rows 5 --out n2-bands
+for run in n2 n3 n2-bands; do
   for f in ref/*; do
     name=$(basename "$f")
     [[ -f "$run/$name" ]] || fail "$run/$name missing"

@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace {
 
@@ -239,6 +241,171 @@ TEST(ImageOutput, AlphaIsStraightInPngAndAssociatedInExr) {
     EXPECT_EQ(channel("band.700", 1), 0.0f);
     EXPECT_THROW(lobe::writeImagePending((d / "a.jpg").string(), img, o), lobe::Error);
     EXPECT_FALSE(fs::exists(d / "a.jpg"));
+}
+
+// ---- band by band (posters) ----------------------------------------------------------------------
+
+// Reads every sample of an image file as stored (integers as 0…255/65535, floats as they are).
+std::vector<float> samplesOf(const fs::path& p, int* channels = nullptr) {
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(p.string(), &config);
+    if (!in) return {};
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
+    const bool integer = spec.format != OIIO::TypeDesc::FLOAT;
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data())) return {};
+    if (integer)  // back to the stored integers: exact in a float
+        for (float& v : data) v = std::round(v * (spec.format == OIIO::TypeDesc::UINT16 ? 65535.0f : 255.0f));
+    if (channels) *channels = spec.nchannels;
+    return data;
+}
+
+// A 7 × 5 image whose every sample differs, with coverage from 0 to 1.
+struct Sample7x5 {
+    RgbImage rgb{7, 5};
+    lobe::Film film{7, 5};
+    std::vector<float> alpha = std::vector<float>(35);
+    Sample7x5() {
+        for (int i = 0; i < 35; ++i) {
+            alpha[size_t(i)] = float(i % 6) / 5.0f;
+            for (int c = 0; c < 3; ++c) rgb.rgb[size_t(i) * 3 + size_t(c)] = alpha[size_t(i)] * float(i + c) / 40.0f;
+            film.at(i % 7, i / 7) = lobe::Spectrum(0.01 * i, 0.02 * i, 0.5 - 0.01 * i);
+        }
+    }
+};
+
+TEST(ImageBandWriter, BandsGiveTheSamePixelsAsOneWrite) {
+    const fs::path d = testDir();
+    const Sample7x5 s;
+    for (const std::string ext : {".png", ".tif", ".exr"}) {
+        for (const int bits : {8, 16}) {
+            if (ext == ".exr" && bits == 16) continue;
+            lobe::ImageWriteOptions o;
+            o.alpha = &s.alpha;
+            o.bits = bits;
+            const std::string whole = (d / ("whole" + std::to_string(bits) + ext)).string();
+            const std::string banded = (d / ("banded" + std::to_string(bits) + ext)).string();
+            std::vector<std::string> names{"R", "G", "B"};
+            std::vector<float> data = s.rgb.rgb;
+            if (ext == ".exr") {
+                lobe::writeFilmPending(whole, s.film, 1.0, {}, o).commit();
+                names = lobe::filmChannelNames({});
+                data = lobe::filmChannels(s.film, 1.0, {});
+            } else {
+                lobe::writeImagePending(whole, s.rgb, o).commit();
+            }
+            // Rows 0-1, 2-3, then 4: bands of 2 and a last band of 1.
+            lobe::ImageBandWriter w(banded, 7, 5, names, true, o);
+            for (int y0 = 0; y0 < 5; y0 += 2) {
+                const int rows = std::min(2, 5 - y0);
+                w.write(rows, &data[size_t(y0) * 7 * names.size()], &s.alpha[size_t(y0) * 7]);
+            }
+            EXPECT_EQ(w.rowsWritten(), 5);
+            EXPECT_FALSE(fs::exists(banded));  // not in place before finish() and commit()
+            w.finish().commit();
+            int channels = 0;
+            const std::vector<float> a = samplesOf(whole, &channels), b = samplesOf(banded);
+            ASSERT_FALSE(a.empty()) << whole;
+            EXPECT_EQ(channels, ext == ".exr" ? 7 : 4);
+            EXPECT_EQ(a, b) << banded;
+        }
+    }
+    // Hand-computed: pixel 5 of the 8-bit PNG has alpha 1 and colour 1·(5 + c)/40 → sRGB;
+    // pixel 6 has alpha 0 → all 0; pixel 3 alpha 0.6 (153) and straight colour (3 + c)/40.
+    const std::vector<float> png = samplesOf(d / "banded8.png");
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(png[5 * 4 + size_t(c)], std::lround(srgb((5.0 + c) / 40.0) * 255)) << c;
+        EXPECT_EQ(png[6 * 4 + size_t(c)], 0.0f) << c;
+        const double straight = double(0.6f * float(3 + c) / 40.0f) / double(0.6f);
+        EXPECT_EQ(png[3 * 4 + size_t(c)], std::lround(srgb(straight) * 255)) << c;
+    }
+    EXPECT_EQ(png[5 * 4 + 3], 255.0f);
+    EXPECT_EQ(png[3 * 4 + 3], 153.0f);
+}
+
+TEST(ImageBandWriter, RgbBandsReadBackAsWritten) {
+    // An EXR with A between B and the bands: R, G, B read back band by band (bands of 14 pixels:
+    // 2 rows of 7, the last of 1) are the floats written, pixel for pixel.
+    const fs::path d = testDir();
+    const Sample7x5 s;
+    lobe::ImageWriteOptions o;
+    o.alpha = &s.alpha;
+    lobe::writeFilmPending((d / "a.exr").string(), s.film, 1.0, {}, o).commit();
+    const std::vector<float> written = lobe::filmChannels(s.film, 1.0, {});  // 6 a pixel
+    std::vector<int> heights;
+    std::vector<float> rgb;
+    lobe::forEachRgbBand((d / "a.exr").string(), 14, [&](lobe::RgbImage& band, int height) {
+        EXPECT_EQ(height, 5);
+        EXPECT_EQ(band.width, 7);
+        heights.push_back(band.height);
+        rgb.insert(rgb.end(), band.rgb.begin(), band.rgb.end());
+    });
+    EXPECT_EQ(heights, (std::vector<int>{2, 2, 1}));
+    ASSERT_EQ(rgb.size(), 35u * 3);
+    for (size_t p = 0; p < 35; ++p)
+        for (size_t c = 0; c < 3; ++c) EXPECT_EQ(rgb[p * 3 + c], written[p * 6 + c]) << p << c;
+    EXPECT_GT(rgb[34 * 3 + 2], 0.0f);  // not all zero
+    // A file without R, G, B channels: one error naming it.
+    lobe::FloatImage bands;
+    bands.width = 2;
+    bands.height = 1;
+    bands.channels.names = {"X", "Y", "Z"};
+    bands.channels.data.assign(6, 0.5f);
+    lobe::writeFloatImage((d / "xyz.exr").string(), bands);
+    try {
+        lobe::forEachRgbBand((d / "xyz.exr").string(), 14, [](lobe::RgbImage&, int) {});
+        ADD_FAILURE() << "no error for an image without R";
+    } catch (const lobe::Error& e) {
+        EXPECT_NE(std::string(e.what()).find("xyz.exr: no channel R"), std::string::npos) << e.what();
+    }
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// Only the temporary file (dot-named) may exist before finish(); nothing at all after an abandon.
+std::vector<std::string> filesIn(const fs::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+TEST(ImageBandWriter, AnUnfinishedImageLeavesNoFile) {
+    const fs::path d = testDir();
+    const Sample7x5 s;
+    std::ofstream(d / "old.png") << "an earlier file, kept";
+    ::testing::internal::CaptureStderr();  // a PNG closed short of its rows: libpng stays quiet
+    {
+        lobe::ImageBandWriter w((d / "old.png").string(), 7, 5, {"R", "G", "B"}, false);
+        w.write(2, s.rgb.rgb.data());
+        const std::vector<std::string> during = filesIn(d);
+        ASSERT_EQ(during.size(), 2u);  // old.png and the temporary file beside it
+        EXPECT_EQ(during[0].rfind(".old.partial-", 0), 0u) << during[0];
+        // finish() with rows missing: an error naming the file; the old file stays as it was.
+        try {
+            (void)w.finish();
+            ADD_FAILURE() << "finish() accepted 2 of 5 rows";
+        } catch (const lobe::Error& e) {
+            EXPECT_NE(std::string(e.what()).find("old.png"), std::string::npos) << e.what();
+        }
+        // More rows than the image has: refused.
+        EXPECT_THROW(w.write(4, s.rgb.rgb.data()), lobe::Error);
+    }
+    EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+    EXPECT_EQ(filesIn(d), std::vector<std::string>{"old.png"});
+    EXPECT_EQ(readText(d / "old.png"), "an earlier file, kept");
+    {  // abandoned without an error (a render that threw): the same
+        lobe::ImageBandWriter w((d / "new.exr").string(), 7, 5, lobe::filmChannelNames({}), true);
+        const std::vector<float> data = lobe::filmChannels(s.film, 1.0, {});
+        w.write(3, data.data(), s.alpha.data());
+    }
+    EXPECT_EQ(filesIn(d), std::vector<std::string>{"old.png"});
 }
 
 TEST(ImageOutput, AttributesReadBackFromPngAndExr) {
