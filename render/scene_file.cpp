@@ -263,9 +263,12 @@ void readBrdf(Reader r, ObjectSpec& object) {
 // Either {"points": [{value, opacity, color}, ...]} or one of the paper's presets:
 // {"preset": "density_map", "index": 0..3, "ramp_width": w},
 // {"preset": "density_maps", "ramp_width": w} (all four maps in one object) or
-// {"preset": "cortex", "boundary": b, "width": w, "color": [..]} (volume/transfer_function.h).
+// {"preset": "cortex", "boundary": b, "width": w, "color": [..]} or
+// {"preset": "cortex_shell", "boundary": b, "width": w, "opacity": a, "color": [..]}
+// (volume/transfer_function.h).
 TransferFunction readTransfer(Reader r) {
-    const std::string preset = r.string("preset", "", {"density_map", "density_maps", "cortex"});
+    const std::string preset =
+        r.string("preset", "", {"density_map", "density_maps", "cortex", "cortex_shell"});
     if (preset == "density_maps") {
         const double ramp = r.number("ramp_width", 0.02, 1e-6, 0.049);
         r.finish();
@@ -283,6 +286,14 @@ TransferFunction readTransfer(Reader r) {
         const Spectrum color = r.bands("color", linearSrgbToBands(0.8, 0.7, 0.65), 0.0, 1e6);
         r.finish();
         return TransferFunction::cortex(boundary, width, color);
+    }
+    if (preset == "cortex_shell") {
+        const double boundary = r.number("boundary", 0.47, -1e12, 1e12);
+        const double width = r.number("width", 0.14, 1e-9, 1e12);
+        const double opacity = r.number("opacity", 0.2, 0.001, 0.999999);
+        const Spectrum color = r.bands("color", Spectrum(0.85, 0.72, 0.62), 0.0, 1e6);
+        r.finish();
+        return TransferFunction::cortexShell(boundary, width, opacity, color);
     }
     std::vector<TfPoint> points;
     if (!r.has("points")) r.fail(r.at("points"), "missing (or give a preset)");

@@ -295,3 +295,49 @@ TEST(SceneFile, GroupNamesAFileAndSingularityIsRelative) {
 }
 
 }  // namespace lobe
+
+namespace lobe {
+namespace {
+
+// The cortex shell preset with its keys, and its defaults against the shell the generated paper
+// scenes spell out point by point (scripts/make_paper_scenes.py, CORTEX_TF): the same points.
+TEST(SceneFile, CortexShellPreset) {
+    const auto scene = [](const std::string& tf) {
+        return R"({"camera": {"position": [0, 0, 5]}, "objects": [
+            {"kind": "volume", "source": {"path": "test_scene_file.cpp"},
+             "transfer_function": )" + tf + R"(, "brdf": {"model": "phong"}}]})";
+    };
+    const TransferFunction own =
+        parseScene(scene(R"({"preset": "cortex_shell", "boundary": 0.3, "width": 0.2,
+                             "opacity": 0.5, "color": [1, 0.5, 0.25]})"),
+                   kBase, "s.json")
+            .objects[0]
+            .transfer;
+    // Edges at 0.3 -+ 0.1; halfway up, 0.001 + (0.5 - 0.001) / 2 = 0.2505.
+    EXPECT_NEAR(own.opacity(0.25), 0.2505, 1e-12);
+    EXPECT_NEAR(own.opacity(0.3), 0.5, 1e-15);
+    EXPECT_EQ(own.opacity(0.41), 0.0);
+    EXPECT_EQ(own.colour(0.3)[1], 0.5);
+
+    const SceneSpec paper =
+        loadSceneFile(std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper/rendering-01.json");
+    const auto& written = paper.objects[1].transfer.points();
+    const SceneSpec shell = parseScene(scene(R"({"preset": "cortex_shell"})"), kBase, "s.json");
+    const auto& preset = shell.objects[0].transfer.points();
+    ASSERT_EQ(paper.objects[1].name, "cortex");
+    ASSERT_EQ(written.size(), preset.size());
+    for (size_t i = 0; i < written.size(); ++i) {
+        EXPECT_NEAR(written[i].value, preset[i].value, 1e-15) << i;
+        EXPECT_EQ(written[i].opacity, preset[i].opacity) << i;
+        for (int b = 0; b < 3; ++b) EXPECT_EQ(written[i].colour[b], preset[i].colour[b]) << i;
+    }
+
+    EXPECT_NE(errorOf(scene(R"({"preset": "cortex_shell", "opacity": 0.0001})"))
+                  .find("transfer_function.opacity"),
+              std::string::npos);
+    EXPECT_NE(errorOf(scene(R"({"preset": "cortex_shell", "index": 1})")).find("transfer_function.index"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace lobe
