@@ -261,9 +261,10 @@ void runRender(const RenderCommand& cmd) {
         std::vector<SceneSpec> loadable;
         for (size_t k = 0; k < specs.size(); ++k) {
             // Fitted cameras, zooms and rigs checked too (render/framing.h): none fails later.
-            const std::string error = volumeErrors[k].empty()
-                                          ? computedViewError(specs[k], volumes)
-                                          : volumeErrors[k];
+            // And transfer-function values given as percentiles of the data.
+            std::string error = volumeErrors[k];
+            if (error.empty()) error = computedViewError(specs[k], volumes);
+            if (error.empty()) error = transferError(specs[k], volumes);
             if (error.empty()) {
                 loadable.push_back(std::move(specs[k]));
                 continue;
