@@ -257,7 +257,11 @@ void runRender(const RenderCommand& cmd) {
     const auto loadVolumes = [&] {
         std::vector<const SceneSpec*> all;
         for (const SceneSpec& spec : specs) all.push_back(&spec);
+        // Its own phase on the display, before the render's progress and apart from its ETA.
+        ProgressReporter loading("load volumes", 1, !quiet && !cmd.check);
         const std::vector<std::string> volumeErrors = volumes.preload(all);
+        loading.advance();
+        loading.finish();
         std::vector<SceneSpec> loadable;
         for (size_t k = 0; k < specs.size(); ++k) {
             // Fitted cameras, zooms and rigs checked too (render/framing.h): none fails later.
@@ -341,8 +345,14 @@ void runRender(const RenderCommand& cmd) {
             continue;
         }
         try {
+            // Assembling the scene (surfaces, volume structures) is shown as a phase of its own
+            // and kept out of the render's ETA.
             std::unique_ptr<RenderScene> scene;
-            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
+            progress.pause();
+            cluster::everywhere([&] {
+                scene = std::make_unique<RenderScene>(spec, !quiet, &volumes);
+            });
+            progress.resume();
             if (root && hasComputedView(scene->spec()))  // fitted numbers, to freeze into the scene
                 std::printf("%s%s: fitted view:\n%s\n", quiet ? "" : "\n", spec.title.c_str(),
                             frozenViewJson(scene->spec()).c_str());
