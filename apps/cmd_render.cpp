@@ -410,7 +410,7 @@ void runRender(const RenderCommand& cmd) {
         for (const auto& [group, entries] : sheets) {
             const std::string path =
                 (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
-            writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
+            writeContactSheet(path, entries, 3, cmd.sheetThumb);
             if (!quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
         }
     if (!errors.empty()) {
@@ -505,7 +505,7 @@ void runMerge(const RenderCommand& cmd) {
     }
     for (const auto& [group, entries] : sheets) {
         const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
-        writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
+        writeContactSheet(path, entries, 3, cmd.sheetThumb);
         if (!cmd.quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
     }
 }
@@ -531,7 +531,7 @@ void runSheet(const SheetCommand& cmd) {
             eq == std::string::npos ? fs::path(path).stem().string() : item.substr(eq + 1);
         entries.push_back({readImage(path), caption});
     }
-    writeImage(cmd.out, makeContactSheet(entries, cmd.columns, cmd.thumb));
+    writeContactSheet(cmd.out, entries, cmd.columns, cmd.thumb);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "apps/contact_sheet.h"
 
+#include "apps/figure_output.h"
+#include "core/image_output.h"
 #include "core/image_text.h"
 
 #include <algorithm>
@@ -54,6 +56,15 @@ RgbImage makeContactSheet(const std::vector<ContactSheetEntry>& entries, int col
                  entries[i].caption, size, {0.85f, 0.85f, 0.85f}, true);
     }
     return sheet;
+}
+
+void writeContactSheet(const std::string& path, const std::vector<ContactSheetEntry>& entries,
+                       int columns, int thumbSize) {
+    std::vector<std::string> captions;
+    for (const ContactSheetEntry& e : entries) captions.push_back(e.caption);
+    ImageWriteOptions options;
+    options.attributes = sheetProvenance(captions);
+    writeImagePending(path, makeContactSheet(entries, columns, thumbSize), options).commit();
 }
 
 }  // namespace lobe

@@ -19,6 +19,11 @@ struct ContactSheetEntry {
 RgbImage makeContactSheet(const std::vector<ContactSheetEntry>& entries, int columns,
                           int thumbSize);
 
+// makeContactSheet written to `path` (temporary name, then renamed) with the provenance every
+// Lobe image carries and the cells' captions (apps/figure_output.h, sheetProvenance).
+void writeContactSheet(const std::string& path, const std::vector<ContactSheetEntry>& entries,
+                       int columns, int thumbSize);
+
 // Box-filtered resize to width × height (used for thumbnails).
 RgbImage resizeImage(const RgbImage& image, int width, int height);
 

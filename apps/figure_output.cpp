@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/utf8.h"
+#include "render/gallery.h"
 #include "render/render_scene.h"
 #include "volume/transfer_function.h"
 
@@ -125,13 +126,45 @@ ImageAttributes provenance(const SceneSpec& spec) {
                   spec.width, spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
                   spec.volumeStepVoxels, spec.shadingRoulette, spec.exposure, spec.tone.c_str(),
                   spec.background.text.c_str());
-    return {{"Software", std::string("Lobe ") + LOBE_VERSION},
-            {"lobe:version", LOBE_VERSION},
-            {"lobe:command_line", asciiEscaped(commandLine())},
-            {"lobe:scene_file", asciiEscaped(spec.path)},
-            {"lobe:scene_json", asciiEscaped(fileText(spec.path))},
-            {"lobe:seed", std::to_string(spec.seed)},
-            {"lobe:render_settings", asciiEscaped(settings)}};
+    return toolProvenance({{"lobe:scene_file", spec.path},
+                           {"lobe:scene_json", fileText(spec.path)},
+                           {"lobe:seed", std::to_string(spec.seed)},
+                           {"lobe:render_settings", settings}});
+}
+
+ImageAttributes toolProvenance(const ImageAttributes& more) {
+    ImageAttributes out = {{"Software", std::string("Lobe ") + LOBE_VERSION},
+                           {"lobe:version", LOBE_VERSION},
+                           {"lobe:command_line", asciiEscaped(commandLine())}};
+    for (const auto& [key, value] : more) out[key] = asciiEscaped(value);
+    return out;
+}
+
+ImageAttributes galleryProvenance(const GalleryOptions& options) {
+    char settings[256];
+    std::snprintf(settings, sizeof settings, "cell %d spp %d seed %llu light %.17g",
+                  options.cellSize, options.samplesPerPixel, (unsigned long long)options.seed,
+                  options.lightIntensity);
+    std::string text = settings;
+    for (const std::string& set : options.settings) text += " set " + set;
+    return toolProvenance({{"lobe:seed", std::to_string(options.seed)},
+                           {"lobe:render_settings", text}});
+}
+
+void writeGalleryFiles(const std::string& base, const Gallery& gallery,
+                       const GalleryOptions& options) {
+    ImageWriteOptions write;
+    write.attributes = galleryProvenance(options);
+    PendingImage png = writeImagePending(base + ".png", labelledGalleryImage(gallery), write);
+    PendingImage exr = writeFilmPending(base + ".exr", gallery.film, 1.0, {}, write);
+    png.commit();
+    exr.commit();
+}
+
+ImageAttributes sheetProvenance(const std::vector<std::string>& captions) {
+    std::string text;
+    for (const std::string& c : captions) text += (text.empty() ? "" : "\n") + c;
+    return toolProvenance({{"lobe:sheet_captions", text}});
 }
 
 void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,

@@ -34,6 +34,8 @@ class App;
 namespace lobe {
 
 class RenderScene;
+struct Gallery;
+struct GalleryOptions;
 
 struct FigureOptions {
     std::string output;      // -o FILE ("" : NAME.png and NAME.exr in --out)
@@ -75,6 +77,17 @@ RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const s
 
 // The provenance attributes listed above.
 ImageAttributes provenance(const SceneSpec& spec);
+// What every image Lobe writes records, scene or not: Software, lobe:version and
+// lobe:command_line, plus `more` (values written as ASCII, as above). provenance() adds the
+// scene's keys to it; the BRDF gallery its settings; a contact sheet its captions.
+ImageAttributes toolProvenance(const ImageAttributes& more = {});
+// The gallery's: lobe:seed and lobe:render_settings (cell, samples, seed, light, --set).
+ImageAttributes galleryProvenance(const GalleryOptions& options);
+// BASE.exr and BASE.png of a rendered gallery, with galleryProvenance (both written, then both
+// put in place). For `lobe gallery` and `lobe demo`.
+void writeGalleryFiles(const std::string& base, const Gallery& gallery, const GalleryOptions& options);
+// A contact sheet's: lobe:sheet_captions, its cells' captions one a line.
+ImageAttributes sheetProvenance(const std::vector<std::string>& captions);
 // This process's command line, arguments quoted for a POSIX shell where needed.
 std::string commandLine();
 

@@ -156,18 +156,48 @@ TEST(Cli, DemoTinyWritesBothImages) {
     const fs::path d = testDir() / "demo";
     const CliRun r = lobe("demo --size 24 --spp 1 --quiet --out " + quote(d.string()));
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    for (const char* f : {"rendering-01.png", "rendering-01.exr", "gallery.png", "gallery.exr"})
+    for (const char* f : {"rendering-01.png", "rendering-01.exr", "gallery.png", "gallery.exr"}) {
         EXPECT_GT(fs::file_size(d / f), 0u) << f;
+        // The provenance `lobe render` records (apps/figure_output.h), here too.
+        const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
+        ASSERT_TRUE(a.count("lobe:command_line")) << f;
+        EXPECT_NE(a.at("lobe:command_line").find(" demo --size 24 --spp 1"), std::string::npos) << f;
+        EXPECT_FALSE(a.at("lobe:version").empty()) << f;
+        EXPECT_EQ(a.at("lobe:seed"), "1") << f;
+    }
+    const lobe::ImageAttributes scene = lobe::readImageAttributes((d / "rendering-01.exr").string());
+    EXPECT_EQ(scene.at("lobe:scene_json"), readFile(kSource + "/assets/scenes/paper/rendering-01.json"));
+    EXPECT_NE(scene.at("lobe:render_settings").find("24x24 spp 1 seed 1"), std::string::npos);
+    EXPECT_NE(lobe::readImageAttributes((d / "gallery.png").string())
+                  .at("lobe:render_settings")
+                  .find("cell 256 spp 4 seed 1"),
+              std::string::npos);
 }
 
 TEST(Cli, ContactSheetAndAMissingImageNamed) {
     const fs::path d = testDir();
-    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --quiet --out " + quote(d.string())).exitCode, 0);
+    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
+    for (const char* f : {"gallery.png", "gallery.exr"}) {
+        const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
+        ASSERT_TRUE(a.count("lobe:render_settings")) << f;
+        EXPECT_EQ(a.at("lobe:render_settings"), "cell 16 spp 1 seed 3 light 12") << f;
+        EXPECT_EQ(a.at("lobe:seed"), "3") << f;
+        EXPECT_NE(a.at("lobe:command_line").find(" gallery --cell 16"), std::string::npos) << f;
+    }
     CliRun r = lobe("contact-sheet --out " + quote((d / "sheet.jpg").string()) + " --thumb 64 " +
                  quote((d / "gallery.png").string() + "=one") + " " +
                  quote((d / "gallery.exr").string() + "=two"));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_GT(fs::file_size(d / "sheet.jpg"), 0u);
+    // A PNG sheet records its command line and captions (non-ASCII as \uXXXX, as elsewhere).
+    r = lobe("contact-sheet --out " + quote((d / "sheet.png").string()) + " --thumb 64 " +
+             quote((d / "gallery.png").string() + "=one") + " " +
+             quote((d / "gallery.exr").string() + "=tw\xc3\xb6"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const lobe::ImageAttributes sheet = lobe::readImageAttributes((d / "sheet.png").string());
+    ASSERT_TRUE(sheet.count("lobe:sheet_captions"));
+    EXPECT_EQ(sheet.at("lobe:sheet_captions"), "one\ntw\\u00f6");
+    EXPECT_NE(sheet.at("lobe:command_line").find(" contact-sheet --out "), std::string::npos);
     r = lobe("contact-sheet --out " + quote((d / "bad.png").string()) + " " +
              quote((d / "none.png").string()));
     EXPECT_NE(r.exitCode, 0);
@@ -553,6 +583,13 @@ TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
     EXPECT_FALSE(fs::exists(d / "out" / "brain-left-orbit-003.exr"));
     EXPECT_FALSE(fs::exists(d / "out" / "brain-left.exr"));
     EXPECT_TRUE(fs::exists(d / "out" / "contact-sheet-brain-left-orbit.png"));
+    const lobe::ImageAttributes sheet =
+        lobe::readImageAttributes((d / "out" / "contact-sheet-brain-left-orbit.png").string());
+    ASSERT_TRUE(sheet.count("lobe:command_line"));
+    EXPECT_NE(sheet.at("lobe:command_line").find(" --orbit 3 "), std::string::npos);
+    EXPECT_EQ(std::count(sheet.at("lobe:sheet_captions").begin(),
+                         sheet.at("lobe:sheet_captions").end(), '\n'),
+              2);  // three frames' captions
     EXPECT_NE(r.out.find("0 deg: fitted view:\n\"camera\": {\"position\": ["), std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find("\"lights\": [\n  {\"position\": "), std::string::npos) << r.out;
