@@ -143,19 +143,28 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
 
 // The display image of a written EXR: its R, G, B floats (what the render had before writing)
 // through the scene's tone curve — the same pixels a render puts in its contact sheet.
-RgbImage displayFromExr(const std::string& path, const std::string& tone) {
+RgbImage displayFromExr(const std::string& path, const std::string& tone,
+                        std::vector<float>* alpha = nullptr) {
     const FloatImage image = readFloatImage(path);
     const auto& names = image.channels.names;
     const size_t k = names.size();
+    const size_t pixels = size_t(image.width) * image.height;
     RgbImage rgb(image.width, image.height);
     for (int c = 0; c < 3; ++c) {
         const auto it = std::find(names.begin(), names.end(), std::string(1, "RGB"[c]));
         if (it == names.end()) throw Error(path + ": no channel " + std::string(1, "RGB"[c]));
         const size_t ch = size_t(it - names.begin());
-        for (size_t p = 0; p < size_t(image.width) * image.height; ++p)
+        for (size_t p = 0; p < pixels; ++p)
             rgb.rgb[p * 3 + size_t(c)] = image.channels.data[p * k + ch];
     }
-    applyTone(rgb, tone);
+    // The coverage, when asked for and present (a transparent background's channel A).
+    const auto a = std::find(names.begin(), names.end(), std::string("A"));
+    if (alpha && a != names.end()) {
+        alpha->resize(pixels);
+        for (size_t p = 0; p < pixels; ++p)
+            (*alpha)[p] = image.channels.data[p * k + size_t(a - names.begin())];
+    }
+    applyDisplayTone(rgb, alpha && !alpha->empty() ? alpha : nullptr, tone);
     return rgb;
 }
 
@@ -233,9 +242,6 @@ void runRender(const RenderCommand& cmd) {
                 SceneSpec loaded = loadSceneFile(f);
                 cmd.overrides.apply(loaded);
                 cmd.figure.apply(loaded);
-                if (shardCount > 0 && loaded.background.needsAlpha())
-                    throw Error(f + ": background " + loaded.background.text +
-                                " needs the objects' coverage, which --shard parts do not keep yet");
                 for (SceneSpec& spec : orbitFrames(loaded, cmd.orbit)) {
                     const std::string base = outputBase(cmd, spec);
                     const auto [it, fresh] = writerOf.emplace(base, f);
@@ -322,14 +328,23 @@ void runRender(const RenderCommand& cmd) {
             std::unique_ptr<RenderScene> scene;
             cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
             AovImage aovs;
-            const Film film = renderShared(*scene, cmd, aov, aovs, nullptr, nullptr, y0, y1);
+            AovRequest withAlpha = aov;  // the coverage, for a background other than the backdrop
+            withAlpha.alpha = spec.background.needsAlpha();
+            Film film = renderShared(*scene, cmd, withAlpha, aovs, nullptr, nullptr, y0, y1);
             if (!root) continue;
             const ImageChannels extra = passChannels(aov, aovs, spec);
-            writeFilm(part, film, spec.exposure, extra,
-                      {{"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
-                       {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
-                       {"lobe:scene", fingerprint(fileText(spec.path))},
-                       {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))}});
+            // The part's rows as a single run writes them (writeFigure): a colour composited
+            // per pixel, with none the coverage as channel A; `lobe merge` joins the rows.
+            compositeBackground(film, aovs.alpha, spec.background, spec.exposure);
+            ImageWriteOptions write;
+            write.attributes = {
+                {"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
+                {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
+                {"lobe:scene", fingerprint(fileText(spec.path))},
+                {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))},
+                {"lobe:background", spec.background.text}};
+            if (spec.background.mode == Background::Mode::None) write.alpha = &aovs.alpha;
+            writeFilmPending(part, film, spec.exposure, extra, write).commit();
             if (!quiet) std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1,
                                          spec.title.c_str(), part.c_str());
             continue;
@@ -462,8 +477,16 @@ void runMerge(const RenderCommand& cmd) {
             const std::string sceneId = fingerprint(fileText(spec.path));
             const std::string settingsId = fingerprint(settingsText(spec, cmd.aov));
             FloatImage merged;
+            std::string background;  // the parts' (--background is given to the renders)
             for (const auto& [i, path] : parts) {
                 FloatImage part = readFloatImage(path);
+                const std::string own = part.attributes.count("lobe:background")
+                                            ? part.attributes["lobe:background"]
+                                            : "backdrop";
+                if (i > 0 && own != background)
+                    throw Error(path + ": rendered with --background " + own + ", part 0 with " +
+                                background);
+                background = own;
                 if (part.attributes["lobe:scene"] != sceneId)
                     throw Error(path + ": rendered from a different scene file than " + spec.path);
                 if (part.attributes["lobe:settings"] != settingsId)
@@ -487,12 +510,17 @@ void runMerge(const RenderCommand& cmd) {
                           part.channels.data.begin() + long(size_t(y1) * spec.width * k),
                           merged.channels.data.begin() + long(size_t(y0) * spec.width * k));
             }
+            spec.background = parseBackground(background, spec.path + ": the parts' background");
             merged.attributes = provenance(spec);  // the shards' own tags go; the merge's come
             writeFloatImage(base + ".exr", merged);
-            // The display image from the merged floats, as a single run makes it from its own.
+            // The display image from the merged floats, as a single run makes it from its own
+            // (with none, the coverage the parts kept as channel A).
+            std::vector<float> alpha;
             ImageWriteOptions png;
             png.attributes = merged.attributes;
-            writeImagePending(base + ".png", displayFromExr(base + ".exr", spec.tone), png).commit();
+            const RgbImage display = displayFromExr(base + ".exr", spec.tone, &alpha);
+            if (!alpha.empty()) png.alpha = &alpha;
+            writeImagePending(base + ".png", display, png).commit();
             if (!cmd.quiet)
                 std::fprintf(stderr, "%s: %d parts -> %s.exr/.png\n", spec.title.c_str(), count,
                              base.c_str());

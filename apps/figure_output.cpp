@@ -180,9 +180,14 @@ void compositeBackground(Film& film, const std::vector<float>& alpha, const Back
 RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,
                       double exposure) {
     RgbImage rgb = filmToRgb(film, exposure);
+    applyDisplayTone(rgb, alpha, tone);
+    return rgb;
+}
+
+void applyDisplayTone(RgbImage& rgb, const std::vector<float>* alpha, const std::string& tone) {
     if (!alpha || tone == "clip") {  // clipping commutes with the division by alpha
         applyTone(rgb, tone);
-        return rgb;
+        return;
     }
     RgbImage none;
     applyTone(none, tone);  // refuses an unknown curve by name
@@ -193,7 +198,6 @@ RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const s
             v = a > 0.0 ? float(shoulderTone(v / a) * a) : 0.0f;
         }
     }
-    return rgb;
 }
 
 FigureResult writeFigure(const FigureOptions& options, const SceneSpec& spec,

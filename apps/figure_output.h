@@ -74,6 +74,8 @@ void compositeBackground(Film& film, const std::vector<float>& alpha, const Back
 // premultiplication by alpha (so an edge pixel keeps its hue), premultiplied again.
 RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,
                       double exposure);
+// Its second half, on linear sRGB × exposure already converted (from a film or an EXR's R, G, B).
+void applyDisplayTone(RgbImage& rgb, const std::vector<float>* alpha, const std::string& tone);
 
 // The provenance attributes listed above.
 ImageAttributes provenance(const SceneSpec& spec);

@@ -5,6 +5,7 @@
 #include "core/image_output.h"
 #include "cli_harness.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -444,6 +445,49 @@ TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
     r = lobe("render " + quote(scene) + " --shard 3/3 --out " + quote((d / "bad").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("--shard: expected I/N"), std::string::npos) << r.err;
+}
+
+// A transparent or solid background with --shard: the parts keep the coverage (channel A) or
+// the composited colour, and the merge writes the single run's EXR (A included) and RGBA PNG.
+// Rendering 1 has the shoulder tone, whose display divides by the coverage.
+TEST(Cli, RowShardsWithABackgroundMergeIntoTheSingleRunsImage) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    for (const std::string background : {"none", "'#336699'"}) {
+        const std::string common = " --width 40 --spp 1 --quiet --background " + background + " ";
+        const fs::path one = d / ("one" + std::to_string(background.size()));
+        const fs::path parts = d / ("parts" + std::to_string(background.size()));
+        ASSERT_EQ(lobe("render " + quote(scene) + common + "--out " + quote(one.string())).exitCode, 0);
+        for (int i = 0; i < 2; ++i)
+            ASSERT_EQ(lobe("render " + quote(scene) + common + "--shard " + std::to_string(i) +
+                           "/2 --threads " + std::to_string(1 + i) + " --out " + quote(parts.string()))
+                          .exitCode, 0);
+        // Merged without --background: the parts say which.
+        const CliRun r = lobe("merge " + quote(scene) + " --width 40 --spp 1 --quiet --out " +
+                              quote(parts.string()));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_TRUE(samePixels(one / "rendering-01.exr", parts / "rendering-01.exr")) << background;
+        EXPECT_TRUE(samePixels(one / "rendering-01.png", parts / "rendering-01.png")) << background;
+        auto in = OIIO::ImageInput::open((parts / "rendering-01.png").string());
+        ASSERT_TRUE(in);
+        EXPECT_EQ(in->spec().nchannels, background == "none" ? 4 : 3) << background;
+        EXPECT_NE(lobe::readImageAttributes((parts / "rendering-01.exr").string())
+                      .at("lobe:render_settings")
+                      .find("background " + std::string(background == "none" ? "none" : "#336699")),
+                  std::string::npos);
+    }
+    // Parts of different backgrounds are not joined.
+    const fs::path mixed = d / "mixed";
+    for (int i = 0; i < 2; ++i)
+        ASSERT_EQ(lobe("render " + quote(scene) + " --width 40 --spp 1 --quiet --background " +
+                       (i ? "none" : "backdrop") + " --shard " + std::to_string(i) + "/2 --out " +
+                       quote(mixed.string()))
+                      .exitCode, 0);
+    const CliRun r = lobe("merge " + quote(scene) + " --width 40 --spp 1 --quiet --out " +
+                          quote(mixed.string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("rendered with --background none, part 0 with backdrop"), std::string::npos)
+        << r.err;
 }
 
 TEST(Cli, BatchShardsAndMergeWriteTheSingleRunsFilesAndContactSheet) {

@@ -168,7 +168,6 @@ TEST(CliFigure, BadFigureOptionsAreRefusedBeforeRendering) {
         {quote(a) + " --background none -o " + quote((d / "x.jpg").string()), "JPEG"},
         {quote(a) + " --png-bits 16 -o " + quote((d / "x.jpg").string()), "--png-bits 16 needs"},
         {quote(a) + " --background '#12345'", "is not one of backdrop, none"},
-        {quote(a) + " --background none --shard 0/2", "--shard"},
     };
     for (const auto& c : cases) {
         const CliRun r = lobe("render " + c.args + " --quiet", d);
