@@ -3,6 +3,7 @@
 // assets/ — and the BRDF gallery into --out, as EXR and PNG. The default size (512², 4 spp)
 // keeps a first run short; --size 1024 --spp 8 gives the paper's settings.
 #include "apps/commands.h"
+#include "apps/figure_output.h"
 #include "apps/output_folder.h"
 #include "apps/data_dir.h"
 #include "render/gallery.h"
@@ -55,18 +56,22 @@ void runDemo(const DemoCommand& cmd) {
     RenderStats stats;
     const Film film = scene.render(options, &stats);
     const std::string base = (fs::path(cmd.outDir) / "rendering-01").string();
-    writeFilm(base + ".exr", film, spec.exposure);
+    // With the provenance `lobe render` records (apps/figure_output.h).
+    ImageWriteOptions write;
+    write.attributes = provenance(spec);
     RgbImage rgb = filmToRgb(film, spec.exposure);
     applyTone(rgb, spec.tone);
-    writeImage(base + ".png", rgb);
+    PendingImage png = writeImagePending(base + ".png", rgb, write);
+    PendingImage exr = writeFilmPending(base + ".exr", film, spec.exposure, {}, write);
+    png.commit();
+    exr.commit();
 
     GalleryOptions gallery;
     gallery.threads = cmd.threads;
     gallery.progress = !cmd.quiet;
     const Gallery g = renderGallery(gallery);
     const std::string galleryBase = (fs::path(cmd.outDir) / "gallery").string();
-    writeFilm(galleryBase + ".exr", g.film);
-    writeImage(galleryBase + ".png", labelledGalleryImage(g));
+    writeGalleryFiles(galleryBase, g, gallery);
     if (!cmd.quiet)
         std::printf("rendering 1 (%s): %dx%d, %d spp in %.1f s -> %s.png / .exr\n"
                     "BRDF gallery -> %s.png / .exr\n",

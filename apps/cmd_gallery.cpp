@@ -1,5 +1,6 @@
 // `lobe gallery` renders the BRDF gallery (the nine models on spheres).
 #include "apps/commands.h"
+#include "apps/figure_output.h"
 #include "apps/output_folder.h"
 #include "render/gallery.h"
 #include "core/error.h"
@@ -25,8 +26,7 @@ void runGallery(const GalleryCommand& cmd) {
     createOutputFolder(cmd.outDir);
     const Gallery gallery = renderGallery(options);
     const std::string base = (std::filesystem::path(cmd.outDir) / "gallery").string();
-    writeFilm(base + ".exr", gallery.film);
-    writeImage(base + ".png", labelledGalleryImage(gallery));
+    writeGalleryFiles(base, gallery, options);
     if (!cmd.quiet) std::printf("wrote %s.exr and %s.png\n", base.c_str(), base.c_str());
 }
 

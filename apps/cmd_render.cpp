@@ -145,19 +145,28 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
 
 // The display image of a written EXR: its R, G, B floats (what the render had before writing)
 // through the scene's tone curve — the same pixels a render puts in its contact sheet.
-RgbImage displayFromExr(const std::string& path, const std::string& tone) {
+RgbImage displayFromExr(const std::string& path, const std::string& tone,
+                        std::vector<float>* alpha = nullptr) {
     const FloatImage image = readFloatImage(path);
     const auto& names = image.channels.names;
     const size_t k = names.size();
+    const size_t pixels = size_t(image.width) * image.height;
     RgbImage rgb(image.width, image.height);
     for (int c = 0; c < 3; ++c) {
         const auto it = std::find(names.begin(), names.end(), std::string(1, "RGB"[c]));
         if (it == names.end()) throw Error(path + ": no channel " + std::string(1, "RGB"[c]));
         const size_t ch = size_t(it - names.begin());
-        for (size_t p = 0; p < size_t(image.width) * image.height; ++p)
+        for (size_t p = 0; p < pixels; ++p)
             rgb.rgb[p * 3 + size_t(c)] = image.channels.data[p * k + ch];
     }
-    applyTone(rgb, tone);
+    // The coverage, when asked for and present (a transparent background's channel A).
+    const auto a = std::find(names.begin(), names.end(), std::string("A"));
+    if (alpha && a != names.end()) {
+        alpha->resize(pixels);
+        for (size_t p = 0; p < pixels; ++p)
+            (*alpha)[p] = image.channels.data[p * k + size_t(a - names.begin())];
+    }
+    applyDisplayTone(rgb, alpha && !alpha->empty() ? alpha : nullptr, tone);
     return rgb;
 }
 
@@ -253,9 +262,6 @@ void runRender(const RenderCommand& cmd) {
                 SceneSpec loaded = loadSceneFile(f);
                 cmd.overrides.apply(loaded);
                 cmd.figure.apply(loaded);
-                if (shardCount > 0 && loaded.background.needsAlpha())
-                    throw Error(f + ": background " + loaded.background.text +
-                                " needs the objects' coverage, which --shard parts do not keep yet");
                 for (SceneSpec& spec : orbitFrames(loaded, cmd.orbit)) {
                     const std::string base = outputBase(cmd, spec);
                     const auto [it, fresh] = writerOf.emplace(base, f);
@@ -277,13 +283,18 @@ void runRender(const RenderCommand& cmd) {
     const auto loadVolumes = [&] {
         std::vector<const SceneSpec*> all;
         for (const SceneSpec& spec : specs) all.push_back(&spec);
+        // Its own phase on the display, before the render's progress and apart from its ETA.
+        ProgressReporter loading("load volumes", 1, !quiet && !cmd.check);
         const std::vector<std::string> volumeErrors = volumes.preload(all);
+        loading.advance();
+        loading.finish();
         std::vector<SceneSpec> loadable;
         for (size_t k = 0; k < specs.size(); ++k) {
             // Fitted cameras, zooms and rigs checked too (render/framing.h): none fails later.
-            const std::string error = volumeErrors[k].empty()
-                                          ? computedViewError(specs[k], volumes)
-                                          : volumeErrors[k];
+            // And transfer-function values given as percentiles of the data.
+            std::string error = volumeErrors[k];
+            if (error.empty()) error = computedViewError(specs[k], volumes);
+            if (error.empty()) error = transferError(specs[k], volumes);
             if (error.empty()) {
                 loadable.push_back(std::move(specs[k]));
                 continue;
@@ -337,14 +348,23 @@ void runRender(const RenderCommand& cmd) {
             std::unique_ptr<RenderScene> scene;
             cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
             AovImage aovs;
-            const Film film = renderShared(*scene, cmd, aov, aovs, nullptr, nullptr, y0, y1);
+            AovRequest withAlpha = aov;  // the coverage, for a background other than the backdrop
+            withAlpha.alpha = spec.background.needsAlpha();
+            Film film = renderShared(*scene, cmd, withAlpha, aovs, nullptr, nullptr, y0, y1);
             if (!root) continue;
             const ImageChannels extra = passChannels(aov, aovs, spec);
-            writeFilm(part, film, spec.exposure, extra,
-                      {{"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
-                       {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
-                       {"lobe:scene", fingerprint(fileText(spec.path))},
-                       {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))}});
+            // The part's rows as a single run writes them (writeFigure): a colour composited
+            // per pixel, with none the coverage as channel A; `lobe merge` joins the rows.
+            compositeBackground(film, aovs.alpha, spec.background, spec.exposure);
+            ImageWriteOptions write;
+            write.attributes = {
+                {"lobe:shard", std::to_string(shardIndex) + "/" + std::to_string(shardCount)},
+                {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
+                {"lobe:scene", fingerprint(fileText(spec.path))},
+                {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))},
+                {"lobe:background", spec.background.text}};
+            if (spec.background.mode == Background::Mode::None) write.alpha = &aovs.alpha;
+            writeFilmPending(part, film, spec.exposure, extra, write).commit();
             if (!quiet) std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1,
                                          spec.title.c_str(), part.c_str());
             continue;
@@ -361,8 +381,14 @@ void runRender(const RenderCommand& cmd) {
             continue;
         }
         try {
+            // Assembling the scene (surfaces, volume structures) is shown as a phase of its own
+            // and kept out of the render's ETA.
             std::unique_ptr<RenderScene> scene;
-            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
+            progress.pause();
+            cluster::everywhere([&] {
+                scene = std::make_unique<RenderScene>(spec, !quiet, &volumes);
+            });
+            progress.resume();
             if (root && hasComputedView(scene->spec()))  // fitted numbers, to freeze into the scene
                 std::printf("%s%s: fitted view:\n%s\n", quiet ? "" : "\n", spec.title.c_str(),
                             frozenViewJson(scene->spec()).c_str());
@@ -435,7 +461,7 @@ void runRender(const RenderCommand& cmd) {
         for (const auto& [group, entries] : sheets) {
             const std::string path =
                 (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
-            writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
+            writeContactSheet(path, entries, 3, cmd.sheetThumb);
             if (!quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
         }
     if (!errors.empty()) {
@@ -487,8 +513,16 @@ void runMerge(const RenderCommand& cmd) {
             const std::string sceneId = fingerprint(fileText(spec.path));
             const std::string settingsId = fingerprint(settingsText(spec, cmd.aov));
             FloatImage merged;
+            std::string background;  // the parts' (--background is given to the renders)
             for (const auto& [i, path] : parts) {
                 FloatImage part = readFloatImage(path);
+                const std::string own = part.attributes.count("lobe:background")
+                                            ? part.attributes["lobe:background"]
+                                            : "backdrop";
+                if (i > 0 && own != background)
+                    throw Error(path + ": rendered with --background " + own + ", part 0 with " +
+                                background);
+                background = own;
                 if (part.attributes["lobe:scene"] != sceneId)
                     throw Error(path + ": rendered from a different scene file than " + spec.path);
                 if (part.attributes["lobe:settings"] != settingsId)
@@ -512,12 +546,17 @@ void runMerge(const RenderCommand& cmd) {
                           part.channels.data.begin() + long(size_t(y1) * spec.width * k),
                           merged.channels.data.begin() + long(size_t(y0) * spec.width * k));
             }
+            spec.background = parseBackground(background, spec.path + ": the parts' background");
             merged.attributes = provenance(spec);  // the shards' own tags go; the merge's come
             writeFloatImage(base + ".exr", merged);
-            // The display image from the merged floats, as a single run makes it from its own.
+            // The display image from the merged floats, as a single run makes it from its own
+            // (with none, the coverage the parts kept as channel A).
+            std::vector<float> alpha;
             ImageWriteOptions png;
             png.attributes = merged.attributes;
-            writeImagePending(base + ".png", displayFromExr(base + ".exr", spec.tone), png).commit();
+            const RgbImage display = displayFromExr(base + ".exr", spec.tone, &alpha);
+            if (!alpha.empty()) png.alpha = &alpha;
+            writeImagePending(base + ".png", display, png).commit();
             if (!cmd.quiet)
                 std::fprintf(stderr, "%s: %d parts -> %s.exr/.png\n", spec.title.c_str(), count,
                              base.c_str());
@@ -531,7 +570,7 @@ void runMerge(const RenderCommand& cmd) {
     }
     for (const auto& [group, entries] : sheets) {
         const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
-        writeImage(path, makeContactSheet(entries, 3, cmd.sheetThumb));
+        writeContactSheet(path, entries, 3, cmd.sheetThumb);
         if (!cmd.quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
     }
 }
@@ -557,7 +596,7 @@ void runSheet(const SheetCommand& cmd) {
             eq == std::string::npos ? fs::path(path).stem().string() : item.substr(eq + 1);
         entries.push_back({readImage(path), caption});
     }
-    writeImage(cmd.out, makeContactSheet(entries, cmd.columns, cmd.thumb));
+    writeContactSheet(cmd.out, entries, cmd.columns, cmd.thumb);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/utf8.h"
+#include "render/gallery.h"
 #include "render/render_scene.h"
 #include "volume/transfer_function.h"
 
@@ -135,13 +136,54 @@ ImageAttributes provenance(const SceneSpec& spec) {
                   spec.volumeStepVoxels, spec.volumePreIntegrated ? " pre_integrated" : "",
                   spec.shadingRoulette, spec.exposure, spec.tone.c_str(),
                   spec.background.text.c_str());
-    return {{"Software", std::string("Lobe ") + LOBE_VERSION},
-            {"lobe:version", LOBE_VERSION},
-            {"lobe:command_line", asciiEscaped(commandLine())},
-            {"lobe:scene_file", asciiEscaped(spec.path)},
-            {"lobe:scene_json", asciiEscaped(fileText(spec.path))},
-            {"lobe:seed", std::to_string(spec.seed)},
-            {"lobe:render_settings", asciiEscaped(settings)}};
+    return toolProvenance({{"lobe:scene_file", spec.path},
+                           {"lobe:scene_json", fileText(spec.path)},
+                           {"lobe:seed", std::to_string(spec.seed)},
+                           {"lobe:render_settings", settings}});
+}
+
+ImageAttributes toolProvenance(const ImageAttributes& more) {
+    ImageAttributes out = {{"Software", std::string("Lobe ") + LOBE_VERSION},
+                           {"lobe:version", LOBE_VERSION},
+                           {"lobe:command_line", asciiEscaped(commandLine())}};
+    for (const auto& [key, value] : more) out[key] = asciiEscaped(value);
+    return out;
+}
+
+ImageAttributes galleryProvenance(const GalleryOptions& options) {
+    char settings[256];
+    std::snprintf(settings, sizeof settings, "cell %d spp %d seed %llu light %.17g",
+                  options.cellSize, options.samplesPerPixel, (unsigned long long)options.seed,
+                  options.lightIntensity);
+    std::string text = settings;
+    for (const std::string& set : options.settings) text += " set " + set;
+    return toolProvenance({{"lobe:seed", std::to_string(options.seed)},
+                           {"lobe:render_settings", text}});
+}
+
+void writeGalleryFiles(const std::string& base, const Gallery& gallery,
+                       const GalleryOptions& options) {
+    ImageWriteOptions write;
+    write.attributes = galleryProvenance(options);
+    PendingImage png = writeImagePending(base + ".png", labelledGalleryImage(gallery), write);
+    PendingImage exr = writeFilmPending(base + ".exr", gallery.film, 1.0, {}, write);
+    png.commit();
+    exr.commit();
+}
+
+ImageAttributes sheetProvenance(const std::vector<std::string>& captions) {
+    std::string text;
+    for (const std::string& c : captions) text += (text.empty() ? "" : "\n") + c;
+    return toolProvenance({{"lobe:sheet_captions", text}});
+}
+
+void writeContactSheet(const std::string& path, const std::vector<ContactSheetEntry>& entries,
+                       int columns, int thumbSize) {
+    std::vector<std::string> captions;
+    for (const ContactSheetEntry& e : entries) captions.push_back(e.caption);
+    ImageWriteOptions options;
+    options.attributes = sheetProvenance(captions);
+    writeImagePending(path, makeContactSheet(entries, columns, thumbSize), options).commit();
 }
 
 void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,
@@ -157,9 +199,14 @@ void compositeBackground(Film& film, const std::vector<float>& alpha, const Back
 RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,
                       double exposure) {
     RgbImage rgb = filmToRgb(film, exposure);
+    applyDisplayTone(rgb, alpha, tone);
+    return rgb;
+}
+
+void applyDisplayTone(RgbImage& rgb, const std::vector<float>* alpha, const std::string& tone) {
     if (!alpha || tone == "clip") {  // clipping commutes with the division by alpha
         applyTone(rgb, tone);
-        return rgb;
+        return;
     }
     RgbImage none;
     applyTone(none, tone);  // refuses an unknown curve by name
@@ -170,7 +217,6 @@ RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const s
             v = a > 0.0 ? float(shoulderTone(v / a) * a) : 0.0f;
         }
     }
-    return rgb;
 }
 
 int bandRowsFor(const SceneSpec& spec, int requested) {

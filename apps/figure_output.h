@@ -22,6 +22,7 @@
 //    of its volume (it cannot be seen), and an image in which no pixel is covered by any object.
 #pragma once
 
+#include "apps/contact_sheet.h"
 #include "core/film.h"
 #include "core/image_output.h"
 #include "core/rgb_image.h"
@@ -38,6 +39,8 @@ class App;
 namespace lobe {
 
 class RenderScene;
+struct Gallery;
+struct GalleryOptions;
 
 struct FigureOptions {
     std::string output;      // -o FILE ("" : NAME.png and NAME.exr in --out)
@@ -107,9 +110,27 @@ void compositeBackground(Film& film, const std::vector<float>& alpha, const Back
 // premultiplication by alpha (so an edge pixel keeps its hue), premultiplied again.
 RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,
                       double exposure);
+// Its second half, on linear sRGB × exposure already converted (from a film or an EXR's R, G, B).
+void applyDisplayTone(RgbImage& rgb, const std::vector<float>* alpha, const std::string& tone);
 
 // The provenance attributes listed above.
 ImageAttributes provenance(const SceneSpec& spec);
+// What every image Lobe writes records, scene or not: Software, lobe:version and
+// lobe:command_line, plus `more` (values written as ASCII, as above). provenance() adds the
+// scene's keys to it; the BRDF gallery its settings; a contact sheet its captions.
+ImageAttributes toolProvenance(const ImageAttributes& more = {});
+// The gallery's: lobe:seed and lobe:render_settings (cell, samples, seed, light, --set).
+ImageAttributes galleryProvenance(const GalleryOptions& options);
+// BASE.exr and BASE.png of a rendered gallery, with galleryProvenance (both written, then both
+// put in place). For `lobe gallery` and `lobe demo`.
+void writeGalleryFiles(const std::string& base, const Gallery& gallery, const GalleryOptions& options);
+// A contact sheet's: lobe:sheet_captions, its cells' captions one a line.
+ImageAttributes sheetProvenance(const std::vector<std::string>& captions);
+
+// makeContactSheet (apps/contact_sheet.h) written to `path` (temporary name, then renamed) with
+// sheetProvenance.
+void writeContactSheet(const std::string& path, const std::vector<ContactSheetEntry>& entries,
+                       int columns, int thumbSize);
 // This process's command line, arguments quoted for a POSIX shell where needed.
 std::string commandLine();
 

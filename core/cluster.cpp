@@ -95,6 +95,10 @@ void check(int code, const char* what) {
 class ClusterTileSource : public TileSource {
 public:
     void begin(const std::vector<Tile>& tiles, ProgressReporter& progress) override {
+        // Row order, not the single process's shuffled tileOrder: the efficiencies docs/cluster.md
+        // simulates for hundreds of ranks are for row order, whose cheap last rows fill the end;
+        // one-tile hand-out over a shuffled order is not simulated. The ETA under mpirun is
+        // therefore the row-order one.
         tiles_ = tiles;  // a copy: gatherTiles needs them after the render
         progress_ = &progress;
         counter_ = 0;

@@ -6,6 +6,10 @@
 
 namespace lobe {
 
+namespace {
+constexpr double kQuietSeconds = 1.0;
+}  // namespace
+
 std::string formatDuration(double seconds) {
     char buf[64];
     if (seconds < 60.0) {
@@ -31,7 +35,24 @@ ProgressReporter::ProgressReporter(std::string label, int64_t totalUnits, bool e
 ProgressReporter::~ProgressReporter() { finish(); }
 
 double ProgressReporter::elapsedSeconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::lock_guard<std::mutex> lock(clockMutex_);
+    const auto end = paused_ ? pausedAt_ : std::chrono::steady_clock::now();
+    return std::chrono::duration<double>(end - start_).count() - pausedSeconds_;
+}
+
+void ProgressReporter::pause() {
+    std::lock_guard<std::mutex> lock(clockMutex_);
+    if (paused_) return;
+    paused_ = true;
+    pausedAt_ = std::chrono::steady_clock::now();
+}
+
+void ProgressReporter::resume() {
+    std::lock_guard<std::mutex> lock(clockMutex_);
+    if (!paused_) return;
+    paused_ = false;
+    pausedSeconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - pausedAt_).count();
 }
 
 void ProgressReporter::advance(int64_t units) {
@@ -46,6 +67,9 @@ void ProgressReporter::advance(int64_t units) {
     const int decile = static_cast<int>(10 * done / total_);
     const bool due = terminal_ ? sinceLast >= 0.1 : (decile > lastDecile_ || sinceLast >= 10.0);
     if (!due) return;
+    // A log line is worth its space after a second: a phase that ends sooner (loading a scene of
+    // a few objects) prints only its final line.
+    if (!terminal_ && elapsedSeconds() < kQuietSeconds) return;
     lastDecile_ = decile;
     lastPrint_ = now;
     print(done, false);
@@ -64,6 +88,12 @@ void ProgressReporter::print(int64_t done, bool final) {
     std::string tail;
     if (final) {
         tail = "done in " + formatDuration(elapsed);
+        double paused;
+        {
+            std::lock_guard<std::mutex> lock(clockMutex_);
+            paused = pausedSeconds_;
+        }
+        if (paused > 0.0) tail += " (+ " + formatDuration(paused) + " loading)";
     } else if (fraction > 0.0) {
         tail = formatDuration(elapsed) + " elapsed, ETA " +
                formatDuration(elapsed * (1.0 - fraction) / fraction);

@@ -1,6 +1,7 @@
 #include "core/tile_scheduler.h"
 
 #include "core/progress.h"
+#include "core/rng.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -36,8 +37,22 @@ std::vector<Tile> imageTiles(int width, int height, const SchedulerOptions& opti
     return tiles;
 }
 
+std::vector<int> tileOrder(int count, bool shuffled) {
+    std::vector<int> order(size_t(std::max(0, count)));
+    for (int i = 0; i < count; ++i) order[size_t(i)] = i;
+    if (!shuffled) return order;
+    Rng rng(0x7469'6c65'6f72'6465ULL);  // fixed: the same order in every run and process
+    for (int i = count - 1; i > 0; --i) {
+        // j uniform in [0, i] (to within 2^-32, which does not matter for a visiting order).
+        const int j = std::min(i, int(rng.uniform() * double(i + 1)));
+        std::swap(order[size_t(i)], order[size_t(j)]);
+    }
+    return order;
+}
+
 void LocalTileSource::begin(const std::vector<Tile>& tiles, ProgressReporter& progress) {
     tiles_ = &tiles;
+    order_ = tileOrder(int(tiles.size()), shuffled_);
     progress_ = &progress;
     counter_ = 0;
 }
@@ -45,7 +60,7 @@ void LocalTileSource::begin(const std::vector<Tile>& tiles, ProgressReporter& pr
 int LocalTileSource::next(int /*slot*/, int finished) {
     if (finished >= 0) progress_->advance(tilePixels((*tiles_)[size_t(finished)]));
     const int i = counter_.fetch_add(1);
-    return i < int(tiles_->size()) ? i : -1;
+    return i < int(order_.size()) ? order_[size_t(i)] : -1;
 }
 
 void forEachTile(int width, int height, const SchedulerOptions& options,
@@ -55,7 +70,7 @@ void forEachTile(int width, int height, const SchedulerOptions& options,
     for (const Tile& t : tiles) pixels += tilePixels(t);
     ProgressReporter own(options.label, pixels, options.progress && !options.sharedProgress);
     ProgressReporter& progress = options.sharedProgress ? *options.sharedProgress : own;
-    LocalTileSource local;
+    LocalTileSource local(options.shuffleTiles);
     TileSource& source = options.tileSource ? *options.tileSource : local;
     source.begin(tiles, progress);
     // One loop per worker: each asks the source for tiles until none is left. A tile that

@@ -184,6 +184,37 @@ std::shared_ptr<const SurfaceGeometry> levelSetOf(const openvdb::FloatGrid::Ptr&
 
 }  // namespace
 
+TransferFunction resolvedTransfer(const ObjectSpec& object, const Volume& volume) {
+    if (object.transferPercentiles.empty()) return object.transfer;
+    // The volume as loaded: divided (divide_by) and blurred (blur_fwhm_mm), as `lobe info
+    // --blur-fwhm` measures it.
+    const ValueHistogram histogram = percentileHistogram(volume);
+    std::vector<TfPoint> points = object.transferPoints;
+    std::string resolved;
+    for (const ObjectSpec::TfPercentile& p : object.transferPercentiles) {
+        const double value = histogram.percentile(p.percent);
+        for (std::size_t i : p.points) points[i].value += value;
+        char text[96];
+        std::snprintf(text, sizeof text, " \"p%g\" = %.9g", p.percent, value);
+        resolved += (resolved.empty() ? "" : ", ") + p.key + text;
+    }
+    try {
+        return TransferFunction(std::move(points), object.transferName);
+    } catch (const Error& e) {
+        throw Error(std::string(e.what()) + " (percentiles of the volume's values: " + resolved + ")");
+    }
+}
+
+std::string transferError(const SceneSpec& spec, VolumeCache& cache) {
+    try {
+        for (const ObjectSpec& object : spec.objects)
+            if (!object.transferPercentiles.empty()) resolvedTransfer(object, *cache.get(object.source));
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache) {
     std::vector<WorldBox> boxes(spec.objects.size());
     for (size_t i = 0; i < spec.objects.size(); ++i) {
@@ -262,7 +293,8 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             SceneVolume vo;
             vo.spec = &object;
             vo.objectIndex = int(i);
-            vo.volume = std::make_unique<DvrVolume>(grid, object.transfer, settings, context);
+            vo.volume = std::make_unique<DvrVolume>(grid, resolvedTransfer(object, *volume),
+                                                    settings, context);
             vo.tangent = tangent;
             volumeObjects_.push_back(std::move(vo));
         }

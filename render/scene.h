@@ -58,6 +58,15 @@ private:
     std::map<std::string, std::string> errors_;  // key → message, for sources that failed
 };
 
+// The object's transfer function, its percentile values ("pNN", ObjectSpec::transferPercentiles)
+// taken from `volume`, the object's source as loaded (divided and blurred): percentileHistogram,
+// the numbers `lobe info` prints. Throws lobe::Error naming the scene file and keys when the
+// placed points are out of order.
+TransferFunction resolvedTransfer(const ObjectSpec& object, const Volume& volume);
+// resolvedTransfer's error for any object of the scene, "" when none: for checking a batch
+// before anything renders.
+std::string transferError(const SceneSpec& spec, VolumeCache& cache);
+
 class Scene {
 public:
     // Loads every source (from `cache` when given) and builds the acceleration structures;

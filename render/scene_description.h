@@ -64,6 +64,18 @@ struct ObjectSpec {
     Spectrum color{1.0};           // surface colour multiplying the reflected light
     // Volumes
     TransferFunction transfer;  // from explicit points or one of the paper's presets
+    // Transfer-function values given as percentiles of the volume's values ("value": "p95", a
+    // preset's "boundary": "p99"). The file alone cannot place them: `transferPoints` holds the
+    // control points with each such value as its offset from the percentile, and scene assembly
+    // (render/scene.cpp) adds the percentile of the loaded volume and builds `transfer`.
+    struct TfPercentile {
+        double percent = 0.0;             // 0 < percent <= 100
+        std::vector<std::size_t> points;  // the control points it places
+        std::string key;                  // "scene.json: objects[0].transfer_function.boundary"
+    };
+    std::vector<TfPercentile> transferPercentiles;
+    std::vector<TfPoint> transferPoints;  // only with transferPercentiles
+    std::string transferName;             // "scene.json: objects[0].transfer_function"
     std::string reconstruction = "trilinear";  // trilinear | bspline
     std::string gradient = "central";          // central | bspline
 };

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -260,29 +261,67 @@ void readBrdf(Reader r, ObjectSpec& object) {
     r.finish();  // any other key is not a parameter of this model
 }
 
+// A transfer-function value: a number, or a percentile "pNN" of the volume's values (0 < NN <=
+// 100, as `lobe info` prints them), which sets `percent` and reads as 0 (the point keeps its
+// offset from the percentile until render/scene.cpp resolves it).
+double readTfValue(Reader& r, const std::string& key, double def, double& percent) {
+    percent = 0.0;
+    if (r.has(key) && r.raw(key).is_string()) {
+        const std::string text = r.raw(key).get<std::string>();
+        percent = parsePercentileText(text);
+        if (!(percent > 0.0))
+            r.fail(r.at(key), "'" + text + "' is not a number or a percentile of the volume's "
+                              "values \"pNN\" with 0 < NN <= 100 (e.g. \"p95\", \"p99.5\")");
+        return 0.0;
+    }
+    return r.number(key, def, -1e12, 1e12);
+}
+
 // Either {"points": [{value, opacity, color}, ...]} or one of the paper's presets:
 // {"preset": "density_map", "index": 0..3, "ramp_width": w},
-// {"preset": "density_maps", "ramp_width": w} (all four maps in one object) or
-// {"preset": "cortex", "boundary": b, "width": w, "color": [..]} (volume/transfer_function.h).
-TransferFunction readTransfer(Reader r) {
-    const std::string preset = r.string("preset", "", {"density_map", "density_maps", "cortex"});
+// {"preset": "density_maps", "ramp_width": w} (all four maps in one object),
+// {"preset": "cortex", "boundary": b, "width": w, "color": [..]} or
+// {"preset": "cortex_shell", "boundary": b, "width": w, "opacity": a, "color": [..]}
+// (volume/transfer_function.h). A point's value and a preset's boundary may be a percentile
+// "pNN" of the volume's values (ObjectSpec::transferPercentiles).
+void readTransfer(Reader r, ObjectSpec& o) {
+    constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    o.transferName = r.file() + ": " + r.path();
+    const std::string preset =
+        r.string("preset", "", {"density_map", "density_maps", "cortex", "cortex_shell"});
     if (preset == "density_maps") {
         const double ramp = r.number("ramp_width", 0.02, 1e-6, 0.049);
         r.finish();
-        return TransferFunction::densityMaps(ramp);
+        o.transfer = TransferFunction::densityMaps(ramp);
+        return;
     }
     if (preset == "density_map") {
         const int index = r.integer("index", 0, 0, 3);
         const double ramp = r.number("ramp_width", 0.02, 1e-6, 0.049);
         r.finish();
-        return TransferFunction::densityMap(index, ramp);
+        o.transfer = TransferFunction::densityMap(index, ramp);
+        return;
     }
-    if (preset == "cortex") {
-        const double boundary = r.number("boundary", 0.47, -1e12, 1e12);
-        const double width = r.number("width", 0.1, 1e-9, 1e12);
-        const Spectrum color = r.bands("color", linearSrgbToBands(0.8, 0.7, 0.65), 0.0, 1e6);
+    if (preset == "cortex" || preset == "cortex_shell") {
+        double percent = 0.0;
+        const double boundary = readTfValue(r, "boundary", 0.47, percent);
+        const bool shell = preset == "cortex_shell";
+        const double width = r.number("width", shell ? 0.14 : 0.1, 1e-9, 1e12);
+        const double opacity = shell ? r.number("opacity", 0.2, 0.001, 0.999999) : 0.0;
+        const Spectrum color = r.bands(
+            "color", shell ? Spectrum(0.85, 0.72, 0.62) : linearSrgbToBands(0.8, 0.7, 0.65), 0.0, 1e6);
         r.finish();
-        return TransferFunction::cortex(boundary, width, color);
+        // With a percentile the preset is built around 0: every point is an offset from it.
+        const TransferFunction tf = shell ? TransferFunction::cortexShell(boundary, width, opacity, color)
+                                          : TransferFunction::cortex(boundary, width, color);
+        if (percent > 0.0) {
+            o.transferPoints = tf.points();
+            ObjectSpec::TfPercentile p{percent, {}, r.file() + ": " + r.at("boundary")};
+            for (std::size_t i = 0; i < tf.points().size(); ++i) p.points.push_back(i);
+            o.transferPercentiles.push_back(p);
+        } else
+            o.transfer = tf;
+        return;
     }
     std::vector<TfPoint> points;
     if (!r.has("points")) r.fail(r.at("points"), "missing (or give a preset)");
@@ -290,20 +329,28 @@ TransferFunction readTransfer(Reader r) {
     const std::string where = r.at("points");
     if (!pts.is_array() || pts.empty())
         r.fail(where, "expected a non-empty array of {value, opacity, color}");
+    double lastNumber = -kInfinity;  // percentiles are placed, and checked, at assembly
     for (size_t i = 0; i < pts.size(); ++i) {
         Reader p(pts[i], where + "[" + std::to_string(i) + "]", r.file());
         TfPoint tp;
         if (!p.has("value")) p.fail(p.at("value"), "missing");
-        tp.value = p.number("value", 0.0, -1e12, 1e12);
+        double percent = 0.0;
+        tp.value = readTfValue(p, "value", 0.0, percent);
         tp.opacity = p.number("opacity", 0.0, 0.0, 0.999999);
         tp.colour = p.bands("color", Spectrum(1.0), 0.0, 1e6);
         p.finish();
-        if (!points.empty() && tp.value < points.back().value)
+        if (percent > 0.0)
+            o.transferPercentiles.push_back({percent, {i}, r.file() + ": " + p.at("value")});
+        else if (tp.value < lastNumber)
             p.fail(p.at("value"), "points must be in non-decreasing order of value");
         points.push_back(tp);
+        if (percent == 0.0) lastNumber = tp.value;
     }
     r.finish();
-    return TransferFunction(points, r.file() + ": " + where);
+    if (o.transferPercentiles.empty())
+        o.transfer = TransferFunction(points, o.transferName);
+    else
+        o.transferPoints = points;
 }
 
 ObjectSpec readObject(Reader r, const std::string& baseDir) {
@@ -335,7 +382,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
         o.color = r.bands("color", Spectrum(1.0), 0.0, 1e6);
     } else {
         if (!r.has("transfer_function")) r.fail(r.at("transfer_function"), "missing");
-        o.transfer = readTransfer(r.child("transfer_function"));
+        readTransfer(r.child("transfer_function"), o);
         o.reconstruction = r.string("reconstruction", "trilinear", {"trilinear", "bspline"});
         o.gradient = r.string("gradient", "central", {"central", "bspline"});
     }

@@ -191,4 +191,24 @@ TransferFunction TransferFunction::cortex(double boundary, double width, const S
     return TransferFunction({{lo, 0.0, colour}, {lo, 0.001, colour}, {hi, 0.2, colour}}, "cortex");
 }
 
+TransferFunction TransferFunction::cortexShell(double boundary, double width, double opacity,
+                                               const Spectrum& colour) {
+    if (!(width > 0.0) || !std::isfinite(boundary) || !std::isfinite(width))
+        throw Error("cortex shell transfer function: width must be > 0 and boundary finite");
+    constexpr double kEdge = 0.001;  // the paper's lowest cortex opacity
+    if (!(opacity >= kEdge && opacity < 1.0))
+        throw Error("cortex shell transfer function: opacity must be in [0.001, 1), got " +
+                    std::to_string(opacity));
+    const double lo = boundary - 0.5 * width;
+    const double hi = boundary + 0.5 * width;
+    // Steps at both ends (two points at one value) keep everything outside the tent exactly
+    // transparent, so empty-space skipping drops it.
+    return TransferFunction({{lo, 0.0, colour},
+                             {lo, kEdge, colour},
+                             {boundary, opacity, colour},
+                             {hi, kEdge, colour},
+                             {hi, 0.0, colour}},
+                            "cortex shell");
+}
+
 }  // namespace lobe

@@ -90,6 +90,19 @@ public:
     // gives no cortex colour; the default is a light warm grey, linear sRGB (0.8, 0.7, 0.65).
     static TransferFunction cortex(double boundary = 0.47, double width = 0.1,
                                    const Spectrum& colour = linearSrgbToBands(0.8, 0.7, 0.65));
+    // Cortex shell: the translucent shell of the paper scenes (scripts/make_paper_scenes.py,
+    // CORTEX_TF), where `cortex` above is opaque from the boundary up and hides what is inside.
+    // A tent around the T1 boundary between CSF (≈ 0.30 of the maximum) and grey matter (≈ 0.65),
+    // 0.47 (shared/docs/paper-scene.md): transparent below boundary − width/2, a step to 0.001 there,
+    // rising linearly to `opacity` at the boundary, falling back to 0.001 at boundary + width/2 and
+    // a step to 0 above, so both the CSF and the tissue inside stay clear and what lies inside the
+    // brain (the density maps) shows through. The paper's range "0.001 to 0.2" gives the edge and
+    // default peak opacity (per voxel length, see above); opacity is in [0.001, 1). Width 0.14 and
+    // the colour, bands (0.85, 0.72, 0.62) (a warm grey; the paper gives none), are the paper
+    // scenes' own, so the preset reproduces them exactly.
+    static TransferFunction cortexShell(double boundary = 0.47, double width = 0.14,
+                                        double opacity = 0.2,
+                                        const Spectrum& colour = Spectrum(0.85, 0.72, 0.62));
 
 private:
     std::vector<TfPoint> points_;

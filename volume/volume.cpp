@@ -296,8 +296,7 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     // Further scaling asked for now composes with what the file already holds.
     const double extra = valueScaleFor(path, options, volume.originalMax * storedScale, [&](double p) {
         // Over every voxel of the box, as `lobe info` (summaryOf) counts them.
-        const VolumeStats stats = computeStats(volume);
-        return valueHistogram(volume, stats.min, stats.max, kPercentileBins, false).percentile(p);
+        return percentileHistogram(volume).percentile(p);
     });
     volume.valueScale = storedScale * extra;
     if (extra != 1.0)
@@ -479,6 +478,12 @@ ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bi
     return h;
 }
 
+ValueHistogram percentileHistogram(const Volume& volume, bool activeOnly) {
+    // kPercentileBins (65 536): percentiles to 1.5e-5 of the value range.
+    const VolumeStats stats = computeStats(volume);
+    return valueHistogram(volume, stats.min, stats.max, kPercentileBins, activeOnly);
+}
+
 double ValueHistogram::percentile(double p) const {
     std::int64_t total = 0;
     for (std::int64_t c : counts) total += c;
@@ -521,9 +526,8 @@ VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
     out.voxels = s.voxels;
     out.activeVoxels = s.activeVoxels;
     out.memoryBytes = s.memoryBytes;
-    // kPercentileBins (65 536): percentiles to 1.5e-5 of the value range.
-    const ValueHistogram all = valueHistogram(volume, s.min, s.max, kPercentileBins, false);
-    const ValueHistogram active = valueHistogram(volume, s.min, s.max, kPercentileBins, true);
+    const ValueHistogram all = percentileHistogram(volume, false);
+    const ValueHistogram active = percentileHistogram(volume, true);
     for (std::size_t i = 0; i < VolumeSummary::kPercents.size(); ++i) {
         out.percentilesAll[i] = all.percentile(VolumeSummary::kPercents[i]);
         out.percentilesActive[i] = active.percentile(VolumeSummary::kPercents[i]);

@@ -92,5 +92,10 @@ struct ValueHistogram {
     double percentile(double p) const;
 };
 ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins, bool activeOnly);
+// The histogram every percentile of Lobe is read from: 65 536 equal bins over [min, max] of the
+// stored values (after valueScale and any blur), every voxel of the box (or the active ones).
+// percentileHistogram(v).percentile(p) is the number `lobe info` prints for p % and what a
+// scene's "divide_by": "pNN" of a .vdb and a transfer-function value "pNN" stand for.
+ValueHistogram percentileHistogram(const Volume& volume, bool activeOnly = false);
 
 }  // namespace lobe

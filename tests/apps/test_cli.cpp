@@ -5,6 +5,7 @@
 #include "core/image_output.h"
 #include "cli_harness.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -156,18 +157,48 @@ TEST(Cli, DemoTinyWritesBothImages) {
     const fs::path d = testDir() / "demo";
     const CliRun r = lobe("demo --size 24 --spp 1 --quiet --out " + quote(d.string()));
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    for (const char* f : {"rendering-01.png", "rendering-01.exr", "gallery.png", "gallery.exr"})
+    for (const char* f : {"rendering-01.png", "rendering-01.exr", "gallery.png", "gallery.exr"}) {
         EXPECT_GT(fs::file_size(d / f), 0u) << f;
+        // The provenance `lobe render` records (apps/figure_output.h), here too.
+        const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
+        ASSERT_TRUE(a.count("lobe:command_line")) << f;
+        EXPECT_NE(a.at("lobe:command_line").find(" demo --size 24 --spp 1"), std::string::npos) << f;
+        EXPECT_FALSE(a.at("lobe:version").empty()) << f;
+        EXPECT_EQ(a.at("lobe:seed"), "1") << f;
+    }
+    const lobe::ImageAttributes scene = lobe::readImageAttributes((d / "rendering-01.exr").string());
+    EXPECT_EQ(scene.at("lobe:scene_json"), readFile(kSource + "/assets/scenes/paper/rendering-01.json"));
+    EXPECT_NE(scene.at("lobe:render_settings").find("24x24 spp 1 seed 1"), std::string::npos);
+    EXPECT_NE(lobe::readImageAttributes((d / "gallery.png").string())
+                  .at("lobe:render_settings")
+                  .find("cell 256 spp 4 seed 1"),
+              std::string::npos);
 }
 
 TEST(Cli, ContactSheetAndAMissingImageNamed) {
     const fs::path d = testDir();
-    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --quiet --out " + quote(d.string())).exitCode, 0);
+    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
+    for (const char* f : {"gallery.png", "gallery.exr"}) {
+        const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
+        ASSERT_TRUE(a.count("lobe:render_settings")) << f;
+        EXPECT_EQ(a.at("lobe:render_settings"), "cell 16 spp 1 seed 3 light 12") << f;
+        EXPECT_EQ(a.at("lobe:seed"), "3") << f;
+        EXPECT_NE(a.at("lobe:command_line").find(" gallery --cell 16"), std::string::npos) << f;
+    }
     CliRun r = lobe("contact-sheet --out " + quote((d / "sheet.jpg").string()) + " --thumb 64 " +
                  quote((d / "gallery.png").string() + "=one") + " " +
                  quote((d / "gallery.exr").string() + "=two"));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_GT(fs::file_size(d / "sheet.jpg"), 0u);
+    // A PNG sheet records its command line and captions (non-ASCII as \uXXXX, as elsewhere).
+    r = lobe("contact-sheet --out " + quote((d / "sheet.png").string()) + " --thumb 64 " +
+             quote((d / "gallery.png").string() + "=one") + " " +
+             quote((d / "gallery.exr").string() + "=tw\xc3\xb6"));
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const lobe::ImageAttributes sheet = lobe::readImageAttributes((d / "sheet.png").string());
+    ASSERT_TRUE(sheet.count("lobe:sheet_captions"));
+    EXPECT_EQ(sheet.at("lobe:sheet_captions"), "one\ntw\\u00f6");
+    EXPECT_NE(sheet.at("lobe:command_line").find(" contact-sheet --out "), std::string::npos);
     r = lobe("contact-sheet --out " + quote((d / "bad.png").string()) + " " +
              quote((d / "none.png").string()));
     EXPECT_NE(r.exitCode, 0);
@@ -381,8 +412,6 @@ TEST(Cli, RenderAovWritesNamedChannelsAndRefusesABadPass) {
 
 // ---- shards and merge -------------------------------------------------------------------------
 
-bool sameFile(const fs::path& a, const fs::path& b) { return readFile(a) == readFile(b) && !readFile(a).empty(); }
-
 // Same pixels in every channel of two EXRs: OpenImageIO's idiff with no tolerance.
 bool samePixels(const fs::path& a, const fs::path& b) {
     const std::string cmd = "idiff -a -fail 0 -failpercent 0 -warn 0 " + quote(a.string()) + " " +
@@ -418,6 +447,49 @@ TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
     EXPECT_NE(r.err.find("--shard: expected I/N"), std::string::npos) << r.err;
 }
 
+// A transparent or solid background with --shard: the parts keep the coverage (channel A) or
+// the composited colour, and the merge writes the single run's EXR (A included) and RGBA PNG.
+// Rendering 1 has the shoulder tone, whose display divides by the coverage.
+TEST(Cli, RowShardsWithABackgroundMergeIntoTheSingleRunsImage) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    for (const std::string background : {"none", "'#336699'"}) {
+        const std::string common = " --width 40 --spp 1 --quiet --background " + background + " ";
+        const fs::path one = d / ("one" + std::to_string(background.size()));
+        const fs::path parts = d / ("parts" + std::to_string(background.size()));
+        ASSERT_EQ(lobe("render " + quote(scene) + common + "--out " + quote(one.string())).exitCode, 0);
+        for (int i = 0; i < 2; ++i)
+            ASSERT_EQ(lobe("render " + quote(scene) + common + "--shard " + std::to_string(i) +
+                           "/2 --threads " + std::to_string(1 + i) + " --out " + quote(parts.string()))
+                          .exitCode, 0);
+        // Merged without --background: the parts say which.
+        const CliRun r = lobe("merge " + quote(scene) + " --width 40 --spp 1 --quiet --out " +
+                              quote(parts.string()));
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_TRUE(samePixels(one / "rendering-01.exr", parts / "rendering-01.exr")) << background;
+        EXPECT_TRUE(samePixels(one / "rendering-01.png", parts / "rendering-01.png")) << background;
+        auto in = OIIO::ImageInput::open((parts / "rendering-01.png").string());
+        ASSERT_TRUE(in);
+        EXPECT_EQ(in->spec().nchannels, background == "none" ? 4 : 3) << background;
+        EXPECT_NE(lobe::readImageAttributes((parts / "rendering-01.exr").string())
+                      .at("lobe:render_settings")
+                      .find("background " + std::string(background == "none" ? "none" : "#336699")),
+                  std::string::npos);
+    }
+    // Parts of different backgrounds are not joined.
+    const fs::path mixed = d / "mixed";
+    for (int i = 0; i < 2; ++i)
+        ASSERT_EQ(lobe("render " + quote(scene) + " --width 40 --spp 1 --quiet --background " +
+                       (i ? "none" : "backdrop") + " --shard " + std::to_string(i) + "/2 --out " +
+                       quote(mixed.string()))
+                      .exitCode, 0);
+    const CliRun r = lobe("merge " + quote(scene) + " --width 40 --spp 1 --quiet --out " +
+                          quote(mixed.string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("rendered with --background none, part 0 with backdrop"), std::string::npos)
+        << r.err;
+}
+
 TEST(Cli, BatchShardsAndMergeWriteTheSingleRunsFilesAndContactSheet) {
     const fs::path d = testDir();
     const std::string k = kSource + "/assets/scenes/skull/";
@@ -428,10 +500,14 @@ TEST(Cli, BatchShardsAndMergeWriteTheSingleRunsFilesAndContactSheet) {
         ASSERT_EQ(lobe("render " + scenes + "--shard " + std::to_string(i) + "/2 --out " +
                        quote((d / "sh").string())).exitCode, 0);
     ASSERT_EQ(lobe("merge " + scenes + "--out " + quote((d / "sh").string())).exitCode, 0);
-    // Rendered PNGs by pixels (their provenance names their own command lines), the sheet by bytes.
-    for (const char* f : {"skull-ward.png", "skull-phong.png", "skull-lafortune.png"})
+    // By pixels: every PNG's provenance names its own command line (the sheets' too).
+    for (const char* f : {"skull-ward.png", "skull-phong.png", "skull-lafortune.png",
+                          "contact-sheet-skull.png"})
         EXPECT_TRUE(samePixels(d / "one" / f, d / "sh" / f)) << f;
-    EXPECT_TRUE(sameFile(d / "one" / "contact-sheet-skull.png", d / "sh" / "contact-sheet-skull.png"));
+    EXPECT_EQ(lobe::readImageAttributes((d / "one" / "contact-sheet-skull.png").string())
+                  .at("lobe:sheet_captions"),
+              lobe::readImageAttributes((d / "sh" / "contact-sheet-skull.png").string())
+                  .at("lobe:sheet_captions"));
     EXPECT_TRUE(samePixels(d / "one" / "skull-phong.exr", d / "sh" / "skull-phong.exr"));
 }
 
@@ -553,6 +629,13 @@ TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
     EXPECT_FALSE(fs::exists(d / "out" / "brain-left-orbit-003.exr"));
     EXPECT_FALSE(fs::exists(d / "out" / "brain-left.exr"));
     EXPECT_TRUE(fs::exists(d / "out" / "contact-sheet-brain-left-orbit.png"));
+    const lobe::ImageAttributes sheet =
+        lobe::readImageAttributes((d / "out" / "contact-sheet-brain-left-orbit.png").string());
+    ASSERT_TRUE(sheet.count("lobe:command_line"));
+    EXPECT_NE(sheet.at("lobe:command_line").find(" --orbit 3 "), std::string::npos);
+    EXPECT_EQ(std::count(sheet.at("lobe:sheet_captions").begin(),
+                         sheet.at("lobe:sheet_captions").end(), '\n'),
+              2);  // three frames' captions
     EXPECT_NE(r.out.find("0 deg: fitted view:\n\"camera\": {\"position\": ["), std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find("\"lights\": [\n  {\"position\": "), std::string::npos) << r.out;

@@ -1,4 +1,6 @@
 #include "render/scene_file.h"
+#include "render/scene.h"
+#include "volume/volume_summary.h"
 
 #include "core/error.h"
 #include "scene_text.h"
@@ -294,4 +296,165 @@ TEST(SceneFile, GroupNamesAFileAndSingularityIsRelative) {
     EXPECT_NE(errorOf(shear).find("singular, or so nearly"), std::string::npos) << errorOf(shear);
 }
 
+}  // namespace lobe
+
+namespace lobe {
+namespace {
+
+// The cortex shell preset with its keys, and its defaults against the shell the generated paper
+// scenes spell out point by point (scripts/make_paper_scenes.py, CORTEX_TF): the same points.
+TEST(SceneFile, CortexShellPreset) {
+    const auto scene = [](const std::string& tf) {
+        return R"({"camera": {"position": [0, 0, 5]}, "objects": [
+            {"kind": "volume", "source": {"path": "test_scene_file.cpp"},
+             "transfer_function": )" + tf + R"(, "brdf": {"model": "phong"}}]})";
+    };
+    const TransferFunction own =
+        parseScene(scene(R"({"preset": "cortex_shell", "boundary": 0.3, "width": 0.2,
+                             "opacity": 0.5, "color": [1, 0.5, 0.25]})"),
+                   kBase, "s.json")
+            .objects[0]
+            .transfer;
+    // Edges at 0.3 -+ 0.1; halfway up, 0.001 + (0.5 - 0.001) / 2 = 0.2505.
+    EXPECT_NEAR(own.opacity(0.25), 0.2505, 1e-12);
+    EXPECT_NEAR(own.opacity(0.3), 0.5, 1e-15);
+    EXPECT_EQ(own.opacity(0.41), 0.0);
+    EXPECT_EQ(own.colour(0.3)[1], 0.5);
+
+    const SceneSpec paper =
+        loadSceneFile(std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper/rendering-01.json");
+    const auto& written = paper.objects[1].transfer.points();
+    const SceneSpec shell = parseScene(scene(R"({"preset": "cortex_shell"})"), kBase, "s.json");
+    const auto& preset = shell.objects[0].transfer.points();
+    ASSERT_EQ(paper.objects[1].name, "cortex");
+    ASSERT_EQ(written.size(), preset.size());
+    for (size_t i = 0; i < written.size(); ++i) {
+        EXPECT_NEAR(written[i].value, preset[i].value, 1e-15) << i;
+        EXPECT_EQ(written[i].opacity, preset[i].opacity) << i;
+        for (int b = 0; b < 3; ++b) EXPECT_EQ(written[i].colour[b], preset[i].colour[b]) << i;
+    }
+
+    EXPECT_NE(errorOf(scene(R"({"preset": "cortex_shell", "opacity": 0.0001})"))
+                  .find("transfer_function.opacity"),
+              std::string::npos);
+    EXPECT_NE(errorOf(scene(R"({"preset": "cortex_shell", "index": 1})")).find("transfer_function.index"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace lobe
+
+namespace lobe {
+namespace {
+
+// Transfer-function values as percentiles "pNN" of the volume's values. The volume: 100 voxels
+// holding 1 … 100 (uint8), divided by 100, so its values are 0.01 … 1.00 and the nearest-rank
+// p% percentile is the ceil(p)-th value, p / 100 (to within one of the 65 536 bins of
+// [0.01, 1], 0.99 / 65536, below it: the bin's lower edge).
+class TfPercentiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("lobe_tf_percentiles_" + std::to_string(getpid()));
+        fs::create_directories(dir_);
+        std::ofstream raw(dir_ / "ramp.raw", std::ios::binary);
+        for (int v = 1; v <= 100; ++v) raw.put(char(v));
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string scene(const std::string& tf, const std::string& source = "") const {
+        return R"({"camera": {"position": [0, 0, 5]}, "objects": [
+            {"kind": "volume", "source": {"path": "ramp.raw", "dims": [10, 10, 1],
+                                          "divide_by": 100)" + source + R"(},
+             "transfer_function": )" + tf + R"(, "brdf": {"model": "phong"}}]})";
+    }
+    TransferFunction resolve(const std::string& text) const {
+        const SceneSpec spec = parseScene(text, dir_.string(), "s.json");
+        VolumeCache cache;
+        return resolvedTransfer(spec.objects[0], *cache.get(spec.objects[0].source));
+    }
+    std::string resolveError(const std::string& text) const {
+        try {
+            resolve(text);
+        } catch (const Error& e) {
+            return e.what();
+        }
+        return "";
+    }
+
+    static constexpr double kBin = 0.99 / 65536;
+    fs::path dir_;
+};
+
+TEST_F(TfPercentiles, PointsAndABoundaryArePlacedAtTheVolumesPercentiles) {
+    const TransferFunction tf = resolve(scene(R"({"points": [
+        {"value": "p5", "opacity": 0}, {"value": "P50", "opacity": 0.5}, {"value": 0.9, "opacity": 0.5}]})"));
+    ASSERT_EQ(tf.points().size(), 3u);
+    EXPECT_LE(tf.points()[0].value, 0.05 + 1e-7);  // 0.05 as a float
+    EXPECT_GT(tf.points()[0].value, 0.05 - kBin - 1e-7);
+    EXPECT_LE(tf.points()[1].value, 0.50 + 1e-7);
+    EXPECT_GT(tf.points()[1].value, 0.50 - kBin - 1e-7);
+    EXPECT_EQ(tf.points()[2].value, 0.9);
+    EXPECT_NEAR(tf.opacity(0.275), 0.25, 1e-4);  // halfway between p5 and p50
+    // p1 is the smallest value, the lowest bin's lower edge: 0.01 exactly (as a float); p99.5 is
+    // the 100th value, the top bin's lower edge 1 - 0.99/65536.
+    const TransferFunction ends = resolve(
+        scene(R"({"points": [{"value": "p1", "opacity": 0}, {"value": "p99.5", "opacity": 0.5}]})"));
+    EXPECT_EQ(ends.points()[0].value, double(0.01f));
+    EXPECT_NEAR(ends.points()[1].value, 1.0 - kBin, 1e-7);
+
+    // A preset's boundary: the cortex shell around the median, 0.5 -+ 0.1.
+    const TransferFunction shell =
+        resolve(scene(R"({"preset": "cortex_shell", "boundary": "p50", "width": 0.2})"));
+    const double median = shell.points()[2].value;
+    EXPECT_NEAR(median, 0.5, kBin + 1e-7);
+    EXPECT_NEAR(shell.points()[0].value, median - 0.1, 1e-15);
+    EXPECT_NEAR(shell.points()[4].value, median + 0.1, 1e-15);
+    EXPECT_EQ(shell.opacity(median), 0.2);
+    EXPECT_EQ(resolve(scene(R"({"preset": "cortex", "boundary": "p50"})")).points()[0].value,
+              median - 0.05);
+}
+
+// After the blur: the number `lobe info --blur-fwhm` prints for 95 % (the blurred ramp has no
+// value to compute by hand; the point is that the percentile is of the blurred values).
+TEST_F(TfPercentiles, AreOfTheVolumeAfterItsBlur) {
+    LoadOptions options;
+    options.hasLayout = true;
+    options.layout.dims = {10, 10, 1};
+    options.normalize = 100;
+    const VolumeSummary info = summarizeVolume((dir_ / "ramp.raw").string(), options, 3.0);
+    ASSERT_EQ(VolumeSummary::kPercents[3], 95.0);
+    const TransferFunction tf = resolve(
+        scene(R"({"points": [{"value": "p95", "opacity": 0.5}]})", R"(, "blur_fwhm_mm": 3)"));
+    EXPECT_EQ(tf.points()[0].value, info.percentilesAll[3]);
+    EXPECT_LT(tf.points()[0].value, 0.95 - 0.01);  // the blur pulled the top down
+}
+
+TEST_F(TfPercentiles, BadTextAndDisorderAreNamed) {
+    for (const char* bad : {"p0", "p101", "q5", "95", "p", "pp5", ""}) {
+        const std::string text = scene(std::string(R"({"points": [{"value": 0}, {"value": ")") + bad +
+                                       R"("}]})");
+        const std::string e = resolveError(text);
+        EXPECT_NE(e.find("s.json: objects[0].transfer_function.points[1].value: '" + std::string(bad) +
+                         "' is not a number or a percentile"),
+                  std::string::npos)
+            << bad << ": " << e;
+    }
+    EXPECT_NE(resolveError(scene(R"({"preset": "cortex_shell", "boundary": "median"})"))
+                  .find("s.json: objects[0].transfer_function.boundary: 'median'"),
+              std::string::npos);
+    // Numbers out of order are found in the file; a percentile above a later number when the
+    // volume is known, naming the key and the value it took.
+    EXPECT_NE(resolveError(scene(R"({"points": [{"value": 0.5}, {"value": "p9"}, {"value": 0.4}]})"))
+                  .find("objects[0].transfer_function.points[2].value: points must be in non-decreasing"),
+              std::string::npos);
+    const std::string e = resolveError(scene(R"({"points": [{"value": "p90"}, {"value": 0.5}]})"));
+    EXPECT_NE(e.find("s.json: objects[0].transfer_function, control point 1: values must be sorted"),
+              std::string::npos)
+        << e;
+    EXPECT_NE(e.find("s.json: objects[0].transfer_function.points[0].value \"p90\" = 0.89"),
+              std::string::npos)
+        << e;
+}
+
+}  // namespace
 }  // namespace lobe

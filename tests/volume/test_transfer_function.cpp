@@ -92,6 +92,44 @@ TEST(TransferFunction, PaperPresets) {
     EXPECT_NEAR(cortex.opacity(0.9), 0.2, 1e-15);
 }
 
+// The cortex shell at the paper scenes' numbers (boundary 0.47, width 0.14, peak 0.2): the tent
+// 0.40 -> 0.47 -> 0.54, values by hand from its five points.
+TEST(TransferFunction, CortexShellIsATentAroundTheBoundary) {
+    const TransferFunction shell = TransferFunction::cortexShell();
+    EXPECT_EQ(shell.opacity(0.1), 0.0);
+    EXPECT_EQ(shell.opacity(0.3999), 0.0);
+    EXPECT_NEAR(shell.opacity(0.40), 0.001, 1e-15);  // the step's right limit
+    // Halfway up the rising side: 0.001 + (0.2 - 0.001) / 2.
+    EXPECT_NEAR(shell.opacity(0.435), 0.1005, 1e-12);
+    EXPECT_NEAR(shell.opacity(0.47), 0.2, 1e-15);
+    // 3/7 of the way down the falling side: 0.2 - 3/7 * 0.199 = 0.114714285714...
+    EXPECT_NEAR(shell.opacity(0.50), 0.2 - 3.0 / 7.0 * 0.199, 1e-12);
+    EXPECT_NEAR(shell.opacity(0.5399999), 0.001, 1e-6);
+    EXPECT_EQ(shell.opacity(0.54), 0.0);  // the closing step: the tissue inside stays clear
+    EXPECT_EQ(shell.opacity(0.9), 0.0);
+    const Spectrum c = shell.colour(0.47);
+    EXPECT_EQ(c[0], 0.85);
+    EXPECT_EQ(c[1], 0.72);
+    EXPECT_EQ(c[2], 0.62);
+    const auto clear = shell.transparentRanges();
+    ASSERT_EQ(clear.size(), 2u);
+    EXPECT_NEAR(clear[0].second, 0.40, 1e-15);
+    EXPECT_NEAR(clear[1].first, 0.54, 1e-15);
+    EXPECT_TRUE(std::isinf(clear[1].second));
+
+    // Other numbers: boundary 0.3, width 0.2, peak 0.5: edges at 0.2 and 0.4, and halfway up
+    // 0.001 + 0.499 / 2 = 0.2505.
+    const TransferFunction own = TransferFunction::cortexShell(0.3, 0.2, 0.5, Spectrum(1));
+    EXPECT_NEAR(own.opacity(0.25), 0.2505, 1e-12);
+    EXPECT_NEAR(own.opacity(0.3), 0.5, 1e-15);
+    EXPECT_EQ(own.opacity(0.19), 0.0);
+    EXPECT_EQ(own.opacity(0.41), 0.0);
+
+    EXPECT_THROW(TransferFunction::cortexShell(0.47, 0.0), Error);
+    EXPECT_THROW(TransferFunction::cortexShell(0.47, 0.1, 0.0005), Error);  // below the edges
+    EXPECT_THROW(TransferFunction::cortexShell(0.47, 0.1, 1.0), Error);
+}
+
 TEST(TransferFunction, SrgbToBandsInvertsBandsToSrgb) {
     const Spectrum bands = linearSrgbToBands(0.2, 0.5, 0.7);
     ASSERT_GE(bands[0], 0.0);  // inside the CIE RGB gamut: no clamping, exact inverse
