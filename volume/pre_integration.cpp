@@ -78,23 +78,25 @@ void PreIntegratedTf::locate(double v, int& i, double& frac, double& beyond) con
     frac = x - i;
 }
 
-double PreIntegratedTf::extinctionIntegral(double v) const {
+double PreIntegratedTf::interpolate(const std::vector<double>& nodes, double v, double& beyond,
+                                    double& end) const {
     int i;
-    double frac, beyond;
+    double frac;
     locate(v, i, frac, beyond);
-    double t = t_[i];
-    if (i < kIntervals) t += frac * (t_[i + 1] - t_[i]);
+    end = beyond < 0.0 ? v0_ : v1_;
+    return i < kIntervals ? nodes[i] + frac * (nodes[i + 1] - nodes[i]) : nodes[i];
+}
+
+double PreIntegratedTf::extinctionIntegral(double v) const {
+    double beyond, end;
+    const double t = interpolate(t_, v, beyond, end);
     return t + (beyond < 0.0 ? tauLo_ : tauHi_) * beyond;
 }
 
 double PreIntegratedTf::momentIntegral(double v) const {
-    int i;
-    double frac, beyond;
-    locate(v, i, frac, beyond);
-    double m = m_[i];
-    if (i < kIntervals) m += frac * (m_[i + 1] - m_[i]);
     // Beyond the span τ is constant: ∫ τ u du from the end to v.
-    const double end = beyond < 0.0 ? v0_ : v1_;
+    double beyond, end;
+    const double m = interpolate(m_, v, beyond, end);
     return m + (beyond < 0.0 ? tauLo_ : tauHi_) * beyond * (end + 0.5 * beyond);
 }
 

@@ -62,6 +62,10 @@ public:
 private:
     // Node index and fraction of v; outside the span, clamps and returns the distance beyond.
     void locate(double v, int& i, double& frac, double& beyond) const;
+    // A node table at v, linearly interpolated; `beyond` as locate's, `end` the span's end it
+    // lies beyond.
+    double interpolate(const std::vector<double>& nodes, double v, double& beyond,
+                       double& end) const;
 
     TransferFunction tf_;
     double v0_ = 0.0, v1_ = 1.0, h_ = 1.0 / kIntervals;
