@@ -8,7 +8,7 @@
 // OpenVDB's own tools::copyToDense, in parallel), so every reconstruction gives the same bits.
 //
 // Memory: 4 bytes per voxel of the box. A DvrVolume keeps a copy only when it is at most
-// kMaxBytes and fits the machine (core/memory.h); otherwise it reads the tree as before.
+// kMaxBytes and an eighth of the machine's memory (core/memory.h); otherwise it reads the tree.
 #pragma once
 
 #include <openvdb/openvdb.h>

@@ -65,7 +65,12 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     // and for central differences of the trilinear field, p ∈ [lo, hi].
     const openvdb::CoordBBox denseBox(lo - openvdb::Coord(1), hi + openvdb::Coord(2));
     const openvdb::Coord dd = denseBox.dim();
-    if (4.0 * double(dd.x()) * double(dd.y()) * double(dd.z()) <= DenseField::kMaxBytes)
+    // Only where it is cheap beside the machine's memory (an eighth at most): otherwise the
+    // samplers read the tree, as fast as before the copy existed.
+    const double memory = physicalMemoryBytes();
+    const double budget = memory > 0.0 ? std::min(DenseField::kMaxBytes, memory / 8.0)
+                                       : DenseField::kMaxBytes;
+    if (4.0 * double(dd.x()) * double(dd.y()) * double(dd.z()) <= budget)
         dense_ = std::make_shared<const DenseField>(*grid_, denseBox);
     for (int a = 0; a < 3; ++a) {
         brickLo_[a] = lo[a];
