@@ -18,6 +18,42 @@ constexpr int kSupportAbove = 2;
 // Margin on a brick's value range before asking the transfer function (guards the rounding of
 // the reconstructed value; header, "Empty-space skipping").
 constexpr double kRangeMargin = 1e-6;
+// The range of the cubic B-spline over the cell whose 4³ control values start at footprint index
+// (x, y, z) of `foot` (side fp, x fastest): the values of the uniform cubic B-spline on one cell
+// are a tensor-product cubic whose Bézier coefficients follow from the control values along each
+// axis by B0 = (P0 + 4P1 + P2)/6, B1 = (2P1 + P2)/3, B2 = (P1 + 2P2)/3, B3 = (P1 + 4P2 + P3)/6
+// (Böhm's conversion; Farin, "Curves and Surfaces for CAGD", 5th ed., §8.5), and a Bézier patch
+// lies within the range of its coefficients (convex hull property). Tighter than the range of the
+// 64 control values, which spans three voxels of the data's variation rather than one.
+void bsplineCellRange(const std::vector<float>& foot, int fp, int x, int y, int z, double& lo,
+                      double& hi) {
+    double q[4][4][4];  // [z][y][x]
+    for (int c = 0; c < 4; ++c)
+        for (int b = 0; b < 4; ++b)
+            for (int a = 0; a < 4; ++a) q[c][b][a] = foot[(size_t(z + c) * fp + (y + b)) * fp + (x + a)];
+    auto toBezier = [](double& p0, double& p1, double& p2, double& p3) {
+        const double b0 = (p0 + 4.0 * p1 + p2) / 6.0, b1 = (2.0 * p1 + p2) / 3.0,
+                     b2 = (p1 + 2.0 * p2) / 3.0, b3 = (p1 + 4.0 * p2 + p3) / 6.0;
+        p0 = b0;
+        p1 = b1;
+        p2 = b2;
+        p3 = b3;
+    };
+    for (int c = 0; c < 4; ++c)
+        for (int b = 0; b < 4; ++b) toBezier(q[c][b][0], q[c][b][1], q[c][b][2], q[c][b][3]);
+    for (int c = 0; c < 4; ++c)
+        for (int a = 0; a < 4; ++a) toBezier(q[c][0][a], q[c][1][a], q[c][2][a], q[c][3][a]);
+    for (int b = 0; b < 4; ++b)
+        for (int a = 0; a < 4; ++a) toBezier(q[0][b][a], q[1][b][a], q[2][b][a], q[3][b][a]);
+    lo = hi = q[0][0][0];
+    for (int c = 0; c < 4; ++c)
+        for (int b = 0; b < 4; ++b)
+            for (int a = 0; a < 4; ++a) {
+                lo = std::min(lo, q[c][b][a]);
+                hi = std::max(hi, q[c][b][a]);
+            }
+}
+
 // Below this step (voxels) the marcher jumps past a transparent cell; at and above it, it steps.
 constexpr double kCellJumpStep = 0.3;
 }  // namespace
@@ -91,7 +127,7 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
         std::vector<float> foot(size_t(fp) * fp * fp);
         std::vector<float> rangeX(2 * size_t(fp) * fp * b), rangeY(2 * size_t(fp) * b * b);
         // Whether every value in [lo, hi] (widened by a rounding margin) is transparent.
-        auto transparent = [&](float lo, float hi) {
+        auto transparent = [&](double lo, double hi) {
             const double m = kRangeMargin * std::max(1.0, std::max(std::abs(double(lo)),
                                                                    std::abs(double(hi))));
             return tf_.isTransparent(lo - m, hi + m);
@@ -158,10 +194,14 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                             };
                             float lo, hi;
                             window(read, cz, lo, hi);
-                            if (transparent(lo, hi)) {
-                                const int bit = (cz * b + cy) * b + cx;
+                            const int bit = (cz * b + cy) * b + cx;
+                            double blo, bhi;
+                            // A B-spline cell whose control values are not all transparent may
+                            // still be: its Bézier range is tighter (bsplineCellRange).
+                            if (transparent(lo, hi) ||
+                                (bspline && (bsplineCellRange(foot, fp, cx, cy, cz, blo, bhi),
+                                             transparent(blo, bhi))))
                                 words[bit >> 6] |= uint64_t(1) << (bit & 63);
-                            }
                         }
             }
     });

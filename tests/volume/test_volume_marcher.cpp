@@ -303,6 +303,42 @@ TEST(VolumeMarcher, LongJumpsChangeNoSample) {
     }
 }
 
+TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
+    // On the ramp f = x the cubic B-spline reproduces x exactly, so cell [c, c+1) holds values
+    // [c, c+1]: its Bézier coefficients (c, c + 1/3, c + 2/3, c + 1 along x) say so, where the
+    // range of its 4³ control values says [c − 1, c + 2]. With opacity only on [5.2, 5.8], a ray
+    // along x at step 0.1 reconstructs the ~10 lattice points of cell 5 alone — not the ~30 of
+    // cells 4, 5 and 6 — and still composites exactly the samples of the march without skipping.
+    const openvdb::FloatGrid::Ptr grid =
+        test::makeGrid([](int i, int, int) { return double(i); }, Coord(0), Coord(15));
+    const TransferFunction shell({{5.2, 0.0, Spectrum(1.0)}, {5.2, 0.2, Spectrum(1.0)},
+                                  {5.8, 0.2, Spectrum(1.0)}, {5.8, 0.0, Spectrum(1.0)}});
+    DvrSettings on, off;
+    on.reconstruction = off.reconstruction = Reconstruction::kCubicBSpline;
+    on.stepVoxels = off.stepVoxels = 0.1;
+    off.emptySpaceSkipping = false;
+    const DvrVolume vOn(grid, shell, on), vOff(grid, shell, off);
+    Ray ray;
+    ray.o = Vec3(-3.0, 7.3, 7.6);
+    ray.d = Vec3(1.0, 0.0, 0.0);
+    ray.tMax = 15.0;  // to x = 12, short of the grid's end where the field falls back to 0
+    VolumeRaySampler a(vOn), b(vOff);
+    ASSERT_TRUE(a.begin(ray, 0.37));
+    ASSERT_TRUE(b.begin(ray, 0.37));
+    VolumeSample sa, sb;
+    int contributing = 0;
+    while (true) {
+        const bool ha = a.next(1e30, sa), hb = b.next(1e30, sb);
+        ASSERT_EQ(ha, hb);
+        if (!ha) break;
+        ++contributing;
+        EXPECT_EQ(sa.t, sb.t);
+        EXPECT_EQ(sa.alpha, sb.alpha);
+    }
+    EXPECT_EQ(contributing, 6);  // x = 5.24, 5.34, …, 5.74
+    EXPECT_LE(a.samplesEvaluated(), 12);
+}
+
 TEST(VolumeMarcher, SegmentsKeepTheLattice) {
     // Marching in random pieces (as an integrator does between surface hits) yields the same
     // samples as one march.
