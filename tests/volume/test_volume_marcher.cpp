@@ -182,6 +182,24 @@ TEST(VolumeMarcher, OpacityCorrectionMakesStepsAgreeOnSmoothData) {
 
 // Every sample that contributes must be identical with and without skipping (same lattice, same
 // value), and the skipped + reconstructed points must be the points marched without skipping.
+// Marches one ray through the volume with skipping (a) and without (b): both must yield the same
+// samples (same lattice point, value and opacity). Returns how many.
+int expectSameSamples(VolumeRaySampler& a, VolumeRaySampler& b, const Ray& ray, double jitter) {
+    EXPECT_EQ(a.begin(ray, jitter), b.begin(ray, jitter));
+    VolumeSample sa, sb;
+    int contributing = 0;
+    while (true) {
+        const bool ha = a.next(1e30, sa), hb = b.next(1e30, sb);
+        EXPECT_EQ(ha, hb);
+        if (!ha || !hb) break;
+        ++contributing;
+        EXPECT_EQ(sa.t, sb.t);
+        EXPECT_EQ(sa.value, sb.value);
+        EXPECT_EQ(sa.alpha, sb.alpha);
+    }
+    return contributing;
+}
+
 // Rays start on a sphere of `reach` voxels around `centre` and aim within `spread` of it.
 void expectSkippingChangesNoSample(const openvdb::FloatGrid::Ptr& grid, const TransferFunction& tf,
                                    Reconstruction reconstruction, double step,
@@ -205,17 +223,7 @@ void expectSkippingChangesNoSample(const openvdb::FloatGrid::Ptr& grid, const Tr
         ray.d = dir;
         const double jitter = rng.uniform();
         VolumeRaySampler a(vOn), b(vOff);
-        ASSERT_EQ(a.begin(ray, jitter), b.begin(ray, jitter));
-        VolumeSample sa, sb;
-        while (true) {
-            const bool ha = a.next(1e30, sa), hb = b.next(1e30, sb);
-            ASSERT_EQ(ha, hb);
-            if (!ha) break;
-            ++contributing;
-            EXPECT_EQ(sa.t, sb.t);
-            EXPECT_EQ(sa.value, sb.value);
-            EXPECT_EQ(sa.alpha, sb.alpha);
-        }
+        contributing += expectSameSamples(a, b, ray, jitter);
         skipped += a.samplesSkipped();
         evalOn += a.samplesEvaluated();
         evalOff += b.samplesEvaluated();
@@ -323,19 +331,7 @@ TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
     ray.d = Vec3(1.0, 0.0, 0.0);
     ray.tMax = 15.0;  // to x = 12, short of the grid's end where the field falls back to 0
     VolumeRaySampler a(vOn), b(vOff);
-    ASSERT_TRUE(a.begin(ray, 0.37));
-    ASSERT_TRUE(b.begin(ray, 0.37));
-    VolumeSample sa, sb;
-    int contributing = 0;
-    while (true) {
-        const bool ha = a.next(1e30, sa), hb = b.next(1e30, sb);
-        ASSERT_EQ(ha, hb);
-        if (!ha) break;
-        ++contributing;
-        EXPECT_EQ(sa.t, sb.t);
-        EXPECT_EQ(sa.alpha, sb.alpha);
-    }
-    EXPECT_EQ(contributing, 6);  // x = 5.24, 5.34, …, 5.74
+    EXPECT_EQ(expectSameSamples(a, b, ray, 0.37), 6);  // x = 5.24, 5.34, …, 5.74
     EXPECT_LE(a.samplesEvaluated(), 12);
 }
 
