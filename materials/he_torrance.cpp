@@ -2,6 +2,7 @@
 #include "materials/he_torrance.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace lobe {
@@ -29,11 +30,25 @@ HeTorrance HeTorrance::fromParams(const ParamValues& p) {
                       p.get("eta"), p.get("kappa")};
 }
 
-double HeTorrance::effectiveRoughnessK(double cosTheta, double sigma0, double tau) {
+HeTorrance::DirectionTerms HeTorrance::directionTerms(double cosTheta, double sigma0, double tau) {
+    // K(θ) = tan θ · erfc(c) and S(θ) = [1 − ½ erfc(c)] / [Λ(c) + 1] share c = τ cot θ / (2σ0),
+    // so one erfc serves both.
     const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-    if (!(sinTheta > 0.0)) return 0.0;  // K(0) = 0 (brdf-models.md model 7)
-    const double tanTheta = sinTheta / cosTheta;
-    return tanTheta * std::erfc(tau / (2.0 * sigma0 * tanTheta));
+    if (!(sinTheta > 0.0)) return {0.0, 1.0};  // K(0) = 0, S(0) = 1 (brdf-models.md model 7)
+    const double c = tau * cosTheta / (2.0 * sigma0 * sinTheta);
+    if (!(c > 0.0)) return {0.0, 0.0};
+    const double erfcC = std::erfc(c);
+    const double k = sinTheta / cosTheta * erfcC;
+    // Beyond c = 26, erfc(c) < 1e-295 and Λ(c) < e^{−676}: S = 1 to double precision, and the
+    // difference in Λ would only be rounding noise.
+    if (c > 26.0) return {k, 1.0};
+    // Λ(c) = ½ [e^{−c²}/(√π c) − erfc(c)] (errata form) is ≥ 0; clamp the cancellation's noise.
+    const double lambda = std::max(0.0, 0.5 * (std::exp(-c * c) / (std::sqrt(kPi) * c) - erfcC));
+    return {k, (1.0 - 0.5 * erfcC) / (lambda + 1.0)};
+}
+
+double HeTorrance::effectiveRoughnessK(double cosTheta, double sigma0, double tau) {
+    return directionTerms(cosTheta, sigma0, tau).k;
 }
 
 double HeTorrance::solveZ0(double sigma0, double kSum) {
@@ -190,9 +205,112 @@ double addDownFromPeak(double peak, double g, double a, double sum) {
     return sum;
 }
 
+// --- Strided walks -----------------------------------------------------------------------------
+// Where the terms spread over many m, h times every h-th term gives the sum to far below the
+// rule's 1e-12, for about 1/h of the work. The residue classes m ≡ r (mod h) of the Poisson
+// weights g^m e^{−g}/m! each hold 1/h of the whole, up to a relative
+//   |Σ_{k=1}^{h−1} e^{−2πikr/h} φ(2πk/h)| ≤ (h − 1)·e^{−g(1 − cos(2π/h))},
+// φ(ω) = exp(g(e^{iω} − 1)) their characteristic function (the discrete Fourier sum over the
+// classes; Poisson summation). The factor e^{−a/m}/m narrows the terms: their spread is
+// s² = 1/(−L'') at the peak, ≤ g, which stands for g in the bound. strideFor picks the largest h
+// ≤ 16 with s²(1 − cos(2π/h)) ≥ 40 (aliasing below (h − 1)·e^{−40} ≈ 6e-17), and h = 1 unless the
+// first term T_1 is below e^{−40} of the peak's: the sum starts at m = 1, an edge the argument
+// does not cover, and there the edge holds nothing. Tests compare the strided sums with the
+// unit-step walk over the whole (g, a, τ) range (test_he_torrance_reference.cpp).
+constexpr int kMaxStride = 16;
+constexpr double kAliasExponent = 40.0;
+
+int strideFor(double peak, double g, double a, double lnG, double logPeak, int maxStride) {
+    // L(1) = ln g − g − a (lnΓ(2) = ln 1 = 0).
+    if (maxStride < 2 || lnG - g - a - logPeak > -kAliasExponent) return 1;
+    // −L''(m) = ψ'(m+1) − 1/m² + 2a/m³ ≤ 1/(m + ½) + 2a/m³ (ψ'(m+1) < 1/(m + ½)): a spread no
+    // larger than the true one.
+    const double spread = 1.0 / (1.0 / (peak + 0.5) + 2.0 * a / (peak * peak * peak));
+    static const std::array<double, kMaxStride + 1> minSpread = [] {
+        std::array<double, kMaxStride + 1> s{};
+        for (int h = 2; h <= kMaxStride; ++h)
+            s[h] = kAliasExponent / (1.0 - std::cos(2.0 * kPi / h));
+        return s;
+    }();
+    int h = 1;
+    while (h < std::min(maxStride, kMaxStride) && spread >= minSpread[h + 1]) ++h;
+    return h;
+}
+
+// For the terms m_k = m0 + dir·k·h (dir = ±1), k < n ≤ kBlock: the ratio T_{m_k+h}/T_{m_k}
+// without its exponential, m/(m+h) · Π_{j=1}^{h} g/(m+j), formed as m / ((m+h) · Π (m+j)/g) —
+// the products along k vectorise; y_k = a·h/(m_k(m_k+h)), so that T_{m+h}/T_m = ratio · e^{y};
+// and for k < n − 1 the step y_{k+1} − y_k in closed form (no cancellation):
+//   up:   −2ah²/(m(m+h)(m+2h)),   down:   2ah²/((m−h)m(m+h)).
+void strideBlock(double m0, int dir, int n, int h, double invG, double a, double* ratio, double* y,
+                 double* step) {
+    double mk[kBlock], q[kBlock];
+    for (int k = 0; k < n; ++k) {
+        mk[k] = m0 + dir * k * h;
+        q[k] = mk[k] + h;
+    }
+    for (int j = 1; j <= h; ++j)
+        for (int k = 0; k < n; ++k) q[k] *= (mk[k] + j) * invG;
+    const double twoAh2 = 2.0 * a * h * h;
+    for (int k = 0; k < n; ++k) {
+        ratio[k] = mk[k] / q[k];
+        y[k] = a * h / (mk[k] * (mk[k] + h));
+    }
+    for (int k = 0; k + 1 < n; ++k)
+        step[k] = dir > 0 ? -twoAh2 / (mk[k] * (mk[k] + h) * (mk[k] + 2.0 * h))
+                          : twoAh2 / ((mk[k] - h) * mk[k] * (mk[k] + h));
+}
+
+// The strided walk up from the peak (the peak's term included), terms relative to T_peak = 1,
+// stopping where the unit walk's rule would (a term below 1e-12 of the sum, which is h times the
+// strided sum). e^{y_k} follows k by the factors e^{y_{k+1} − y_k} (expSmall) where those are
+// small, which they are from the block's first on since they shrink as m grows; a fresh exp
+// starts each block. Returns the strided sum (without the factor h).
+double sumUpStrided(double peak, double g, double a, int h) {
+    const double invG = 1.0 / g, stop = kSeriesTolerance * h;
+    double sum = 0.0, m = peak, t = 1.0;
+    for (;;) {
+        double ratio[kBlock], y[kBlock], step[kBlock];
+        strideBlock(m, +1, kBlock, h, invG, a, ratio, y, step);
+        const bool small = -step[0] <= kSmallStep;
+        double e = std::exp(y[0]);
+        for (int k = 0; k < kBlock; ++k) {
+            sum += t;
+            if (m + k * h > g && t < stop * sum) return sum;
+            t *= ratio[k] * e;
+            if (k + 1 < kBlock) e = small ? e * expSmall(step[k]) : std::exp(y[k + 1]);
+        }
+        m += kBlock * h;
+        if (m > 1e9) return sum;  // unreachable for the parameter ranges; a guard
+    }
+}
+
+// The strided walk down from the peak, adding to the up walk's `sum`: T_m = T_{m+h} / (ratio ·
+// e^{y}) for m = peak − h, peak − 2h, … ≥ 1. The factors grow as m falls: expSmall only when the
+// block's last (largest) step is small. Returns the new strided sum.
+double addDownStrided(double peak, double g, double a, int h, double sum) {
+    const double invG = 1.0 / g, stop = kSeriesTolerance * h;
+    double m = peak - h, t = 1.0;
+    while (m >= 1.0) {
+        const int n = static_cast<int>(std::min<double>(kBlock, std::floor((m - 1.0) / h) + 1.0));
+        double ratio[kBlock], y[kBlock] = {}, step[kBlock];
+        strideBlock(m, -1, n, h, invG, a, ratio, y, step);
+        const bool small = n < 2 || step[n - 2] <= kSmallStep;
+        double e = std::exp(-y[0]);
+        for (int k = 0; k < n; ++k) {
+            t *= e / ratio[k];
+            sum += t;
+            if (t < stop * sum) return sum;
+            if (k + 1 < n) e = small ? e * expSmall(-step[k]) : std::exp(-y[k + 1]);
+        }
+        m -= n * h;
+    }
+    return sum;
+}
+
 }  // namespace
 
-double HeTorrance::distributionD(double g, double vxy2, double tau) {
+double HeTorrance::distributionD(double g, double vxy2, double tau, int maxStride) {
     // Terms T_m = g^m e^{−g} / (m!·m) · exp(−a/m), a = vxy2·τ²/4; in log space
     //   L(m) = m ln g − g − lnΓ(m+1) − ln m − a/m.
     // L is concave in m (−lnΓ'' ≤ −1/m, +1/m² from −ln m, −2a/m³), so the terms rise to one peak
@@ -245,23 +363,16 @@ double HeTorrance::distributionD(double g, double vxy2, double tau) {
     const double logPeak = logSeriesTerm(peak, g, lnG, a);
 
     // The two walks from the peak (terms relative to T_peak = 1), in the order the stopping rule
-    // sees them: up first, then down relative to the whole sum.
-    const double sum = addDownFromPeak(peak, g, a, sumUpFromPeak(peak, g, a));
+    // sees them: up first, then down relative to the whole sum; every h-th term where the terms
+    // spread wide enough (strideFor).
+    const int h = strideFor(peak, g, a, lnG, logPeak, maxStride);
+    const double sum = h == 1 ? addDownFromPeak(peak, g, a, sumUpFromPeak(peak, g, a))
+                              : h * addDownStrided(peak, g, a, h, sumUpStrided(peak, g, a, h));
     return kPi * kPi * tau * tau / 4.0 * std::exp(logPeak) * sum;
 }
 
 double HeTorrance::shadowingS(double cosTheta, double sigma0, double tau) {
-    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-    if (!(sinTheta > 0.0)) return 1.0;  // S(0) = 1
-    const double c = tau * cosTheta / (2.0 * sigma0 * sinTheta);
-    // Beyond c = 26, erfc(c) < 1e-295 and Λ(c) < e^{−676}: S = 1 to double precision, and the
-    // difference in Λ would only be rounding noise.
-    if (c > 26.0) return 1.0;
-    if (!(c > 0.0)) return 0.0;
-    // Λ(c) = ½ [e^{−c²}/(√π c) − erfc(c)] (errata form) is ≥ 0; clamp the cancellation's noise.
-    const double lambda =
-        std::max(0.0, 0.5 * (std::exp(-c * c) / (std::sqrt(kPi) * c) - std::erfc(c)));
-    return (1.0 - 0.5 * std::erfc(c)) / (lambda + 1.0);
+    return directionTerms(cosTheta, sigma0, tau).s;
 }
 
 Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
@@ -275,12 +386,14 @@ Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
     const double c = std::min(1.0, std::max(0.0, wi.dot(h)));
     Spectrum f;
     double lastSigma0 = -1.0, lastTau = -1.0, dsg = 0.0;  // D·S·G, shared by equal bands
+    double lastEta = -1.0, lastKappa = -1.0, fresnel = 0.0;
     for (int b = 0; b < kBandCount; ++b) {
         if (sigma0[b] != lastSigma0 || tau[b] != lastTau) {
             lastSigma0 = sigma0[b];
             lastTau = tau[b];
             const double s0 = sigma0[b], t = tau[b];
-            const double kSum = effectiveRoughnessK(cosI, s0, t) + effectiveRoughnessK(cosO, s0, t);
+            const DirectionTerms in = directionTerms(cosI, s0, t), out = directionTerms(cosO, s0, t);
+            const double kSum = in.k + out.k;
             // z0 ≤ A = (σ0/4)·kSum/sqrt(π/2) (solveZ0). When A/σ0 < 1e-9, (z0/σ0)² < 1e-18 is
             // lost in 1 + (z0/σ0)² and σ = σ0 exactly, so the solve is skipped (the common case:
             // away from grazing, erfc makes K tiny).
@@ -288,10 +401,14 @@ Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
             const double sigma = s0 / std::sqrt(1.0 + (z0 / s0) * (z0 / s0));
             const double root = kWaveNumber * sigma * (cosI + cosO);
             const double d = distributionD(root * root, vxy2, t);
-            const double s = shadowingS(cosI, s0, t) * shadowingS(cosO, s0, t);
-            dsg = d * s * geometry;
+            dsg = d * in.s * out.s * geometry;
         }
-        const double value = ks[b] * fresnelExact(eta[b], kappa[b], c) * dsg / (kPi * cosI * cosO);
+        if (eta[b] != lastEta || kappa[b] != lastKappa) {  // F, shared by equal bands
+            lastEta = eta[b];
+            lastKappa = kappa[b];
+            fresnel = fresnelExact(eta[b], kappa[b], c);
+        }
+        const double value = ks[b] * fresnel * dsg / (kPi * cosI * cosO);
         f[b] = std::isfinite(value) ? value : 0.0;
     }
     return f;

@@ -47,10 +47,16 @@ struct HeTorrance {
     static double effectiveRoughnessK(double cosTheta, double sigma0, double tau);
     // z0 ≥ 0 solving sqrt(π/2)·z0 = (σ0/4)·kSum·exp(−z0²/(2σ0²)), kSum = K(θi) + K(θo).
     static double solveZ0(double sigma0, double kSum);
-    // D for given g and vxy2 = k²(H·t² + H·b²).
-    static double distributionD(double g, double vxy2, double tau);
+    // D for given g and vxy2 = k²(H·t² + H·b²). maxStride 1 sums every term (the unit walk);
+    // the default lets wide series be summed every h-th term (he_torrance.cpp, strideFor).
+    static double distributionD(double g, double vxy2, double tau, int maxStride = 16);
     // S(θ) for cos θ = cosTheta.
     static double shadowingS(double cosTheta, double sigma0, double tau);
+    // K(θ) and S(θ) together: they share erfc(τ cot θ / (2σ0)).
+    struct DirectionTerms {
+        double k, s;
+    };
+    static DirectionTerms directionTerms(double cosTheta, double sigma0, double tau);
 };
 
 }  // namespace lobe

@@ -91,6 +91,43 @@ TEST(HeTorranceReference, SeriesDMatchesTheDefinitionOverRandomArguments) {
     std::printf("largest relative difference from the definition: %.3g\n", worst);
 }
 
+// The strided sums (every h-th term times h, where the terms spread wide: he_torrance.cpp,
+// strideFor) against the definition, beside the unit-step walk, over g from below where striding
+// starts (~20) to the largest (1.6e6), a and τ over their whole ranges. The aliasing the stride is
+// chosen against is below 1e-16; what remains is rounding, which the unit walk carries over h
+// times as many terms: the strided sum must be no further from the definition than the unit
+// walk (plus 1e-13), and within the same bound as the series tests above.
+TEST(HeTorranceReference, StridedSumsAreNoWorseThanTheUnitWalk) {
+    Rng rng(7, 11);
+    const auto logUniform = [&](double lo, double hi) {
+        return lo * std::pow(hi / lo, rng.uniform());
+    };
+    double worstStrided = 0.0, worstUnit = 0.0;
+    int strided = 0;
+    const int draws = 1000;
+    for (int i = 0; i < draws; ++i) {
+        const double g = logUniform(10.0, 1.6e6);
+        const double a = i % 8 == 0 ? 0.0 : logUniform(1e-8, 4e7);
+        const double tau = logUniform(0.01, 1000.0), vxy2 = 4.0 * a / (tau * tau);
+        const double unit = HeTorrance::distributionD(g, vxy2, tau, 1);
+        const double d = HeTorrance::distributionD(g, vxy2, tau);
+        ASSERT_TRUE(std::isfinite(d) && d >= 0.0) << "g " << g << " a " << a;
+        if (d == unit) continue;
+        ++strided;
+        const double r = seriesByDefinition(g, vxy2, tau);
+        const double errStrided = relativeDifference(d, r), errUnit = relativeDifference(unit, r);
+        EXPECT_LE(errStrided, errUnit + 1e-13) << "g " << g << " a " << a << " tau " << tau;
+        EXPECT_LE(errStrided, allowed(g)) << "g " << g << " a " << a << " tau " << tau;
+        worstStrided = std::max(worstStrided, errStrided);
+        worstUnit = std::max(worstUnit, errUnit);
+    }
+    // Most draws spread wide enough to stride; a run that never strides tests nothing.
+    EXPECT_GT(strided, draws / 2);
+    std::printf("%d of %d draws strided; largest relative difference from the definition: "
+                "strided %.3g, unit walk %.3g\n",
+                strided, draws, worstStrided, worstUnit);
+}
+
 // The doc's series under its own stopping rule, in 50-digit arithmetic (python3 + mpmath):
 //   import mpmath, math
 //   mpmath.mp.dps = 50
@@ -119,7 +156,9 @@ TEST(HeTorranceReference, SeriesDMatchesTheDefinitionOverRandomArguments) {
 //                (0.05, 3948), (3, 60)]:
 //       print(g, a, mpmath.nstr(D(g, a), 17))
 // At g = 1.6e6 a double-precision log-space sum is ~1e-9 off these (its cancellation); the
-// production code is within 1e-12.
+// production code's unit-step walk (maxStride 1), which is the rule, is within 1e-11. The strided
+// sum (the default where the terms spread wide) is a sum of the whole series, not of the rule's
+// truncation of it: it differs from these by at most the rule's own neglected tail, allowed(g).
 TEST(HeTorranceReference, SeriesDMatchesHighPrecisionValuesOfTheRule) {
     struct Case {
         double g, a, d;
@@ -132,7 +171,9 @@ TEST(HeTorranceReference, SeriesDMatchesHighPrecisionValuesOfTheRule) {
     };
     for (const Case& c : cases) {
         const double tau = 10.0, vxy2 = 4.0 * c.a / (tau * tau);
-        EXPECT_LE(relativeDifference(HeTorrance::distributionD(c.g, vxy2, tau), c.d), 1e-11)
+        EXPECT_LE(relativeDifference(HeTorrance::distributionD(c.g, vxy2, tau, 1), c.d), 1e-11)
+            << "g " << c.g << " a " << c.a;
+        EXPECT_LE(relativeDifference(HeTorrance::distributionD(c.g, vxy2, tau), c.d), allowed(c.g))
             << "g " << c.g << " a " << c.a;
     }
 }
