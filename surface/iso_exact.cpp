@@ -135,7 +135,7 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
             float lo, hi;
             readBrick(acc, origins_[k], v, lo, hi);
             cells_[k] = BrickCells::classify(v, iso_);
-            bounds_[k] = brickWorldBounds(map_, origins_[k]);
+            bounds_[k] = brickWorldBounds(map_, origins_[k], cells_[k]);
         }
     });
 }

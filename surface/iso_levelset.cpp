@@ -141,7 +141,7 @@ LevelSetSurface::LevelSetSurface(openvdb::FloatGrid::ConstPtr levelSet, const st
         if (!classes[b].anyStraddles()) continue;
         origins_.push_back(candidates[b]);
         cells_.push_back(classes[b]);
-        bounds_.push_back(brickWorldBounds(map_, candidates[b]));
+        bounds_.push_back(brickWorldBounds(map_, candidates[b], classes[b]));
     }
 }
 
