@@ -245,6 +245,68 @@ double GridReconstructor::bspline(const Vec3& p) {
     return v;
 }
 
+double GridReconstructor::bsplineOnRay(const Vec3& o, const Vec3& d, double t) {
+    const Vec3 p = o + d * t;
+    const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
+    const openvdb::Coord cell{int(fx), int(fy), int(fz)};
+    RayCell& r = ray_;
+    if (!(r.valid && cell == r.cell && o == r.o && d == r.d)) {
+        // Each weight w_a(u + e·s), u the local coordinate at t0 = t and e the axis' speed, as a
+        // cubic in s by its Taylor expansion at u (the derivatives of the weights in the file's
+        // head): W[a][k] = w_a^(k)(u) e^k / k!.
+        auto weights = [](double u, double e, double W[4][4]) {
+            const double v = 1.0 - u, e2 = e * e, e3 = e2 * e;
+            double w[4];
+            bsplineWeights(u, w);
+            const double d1[4] = {-0.5 * v * v, 0.5 * (3.0 * u * u - 4.0 * u),
+                                  0.5 * (-3.0 * u * u + 2.0 * u + 1.0), 0.5 * u * u};
+            const double d2[4] = {v, 3.0 * u - 2.0, 1.0 - 3.0 * u, u};
+            const double d3[4] = {-1.0, 3.0, -3.0, 1.0};
+            for (int a = 0; a < 4; ++a) {
+                W[a][0] = w[a];
+                W[a][1] = d1[a] * e;
+                W[a][2] = 0.5 * d2[a] * e2;
+                W[a][3] = kSixth * d3[a] * e3;
+            }
+        };
+        double wx[4][4], wy[4][4], wz[4][4];
+        weights(p.x - fx, d.x, wx);
+        weights(p.y - fy, d.y, wy);
+        weights(p.z - fz, d.z, wz);
+        const Block& f = block(cell.x() - 1, cell.y() - 1, cell.z() - 1);
+        // Along x: 16 rows (y, z) of cubics; along y: 4 sextics; along z: the nonic. Coefficient
+        // index outermost, so that the inner loops run over contiguous rows (they vectorise).
+        double px[4][16] = {};
+        for (int a = 0; a < 4; ++a) {
+            double fa[16];
+            for (int row = 0; row < 16; ++row) fa[row] = f[a][row];
+            for (int k = 0; k < 4; ++k)
+                for (int row = 0; row < 16; ++row) px[k][row] += fa[row] * wx[a][k];
+        }
+        double py[7][4] = {};
+        for (int b = 0; b < 4; ++b)
+            for (int k = 0; k < 4; ++k)
+                for (int l = 0; l < 4; ++l)
+                    for (int c = 0; c < 4; ++c) py[k + l][c] += px[k][4 * b + c] * wy[b][l];
+        for (double& x : r.poly) x = 0.0;
+        for (int k = 0; k < 7; ++k)
+            for (int c = 0; c < 4; ++c)
+                for (int l = 0; l < 4; ++l) r.poly[k + l] += py[k][c] * wz[c][l];
+        r.o = o;
+        r.d = d;
+        r.cell = cell;
+        r.t0 = t;
+        r.valid = true;
+    }
+    // Estrin's scheme: a tree of depth 4 instead of Horner's chain of 9 multiply-adds (the
+    // chain's latency, not its arithmetic, was the cost of a sample).
+    const double s = t - r.t0, s2 = s * s, s4 = s2 * s2;
+    const double* c = r.poly;
+    const double p01 = c[0] + c[1] * s, p23 = c[2] + c[3] * s, p45 = c[4] + c[5] * s,
+                 p67 = c[6] + c[7] * s, p89 = c[8] + c[9] * s;
+    return (p01 + p23 * s2) + (p45 + p67 * s2) * s4 + p89 * (s4 * s4);
+}
+
 Vec3 GridReconstructor::centralDifferences(const Vec3& p) {
     return Vec3(0.5 * (trilinear(p + Vec3(1, 0, 0)) - trilinear(p - Vec3(1, 0, 0))),
                 0.5 * (trilinear(p + Vec3(0, 1, 0)) - trilinear(p - Vec3(0, 1, 0))),

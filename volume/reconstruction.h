@@ -91,6 +91,12 @@ public:
     double value(Reconstruction r, const Vec3& p) {
         return r == Reconstruction::kTrilinear ? trilinear(p) : bspline(p);
     }
+    // The B-spline at o + d·t, for many t along one ray. Inside one voxel cell the field along
+    // the ray is a polynomial of degree 9 in t (each weight is a cubic in t); it is built once
+    // per cell from the 4³ block (~600 products) and then costs 9 products a sample, where
+    // bspline() costs ~90. Worth it from ~7 samples a cell (steps below ~0.1 voxel). Equal to
+    // bspline(o + d·t) up to rounding (~1e-13 of the block's values; tested).
+    double bsplineOnRay(const Vec3& o, const Vec3& d, double t);
     // Value and index-space gradient with the chosen filter and gradient method; the value of the
     // B-spline + B-spline-derivative pair comes from the same fetch.
     double valueAndGradient(Reconstruction r, GradientMethod g, const Vec3& p, Vec3& gradient);
@@ -108,6 +114,14 @@ private:
     Block block_;
     openvdb::Coord blockOrigin_;
     bool hasBlock_ = false;
+    // bsplineOnRay's polynomial: f(o + d·t) = Σ_k poly[k] (t − t0)^k in the cell `cell`.
+    struct RayCell {
+        Vec3 o{0.0}, d{0.0};
+        openvdb::Coord cell;
+        double t0 = 0.0;
+        double poly[10] = {};
+        bool valid = false;
+    } ray_;
 };
 
 }  // namespace lobe

@@ -56,6 +56,10 @@ void bsplineCellRange(const std::vector<float>& foot, int fp, int x, int y, int 
 
 // Below this step (voxels) the marcher jumps past a transparent cell; at and above it, it steps.
 constexpr double kCellJumpStep = 0.3;
+// Below this step (voxels) the cubic B-spline is read through the ray's polynomial in each cell
+// (GridReconstructor::bsplineOnRay). Rendering 1 at 512² × 8 spp: step 0.05, 16.0 → 15.2 CPU s;
+// at 0.1 it would cost 3 % more (6.7 samples a cell do not pay for building the polynomial).
+constexpr double kRayPolynomialStep = 0.075;
 }  // namespace
 
 DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
@@ -297,6 +301,8 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     prevSkippable_ = false;
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
+    rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
+                     vol_->settings_.stepVoxels < kRayPolynomialStep;
     kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
     active_ = true;
     return true;
@@ -372,7 +378,8 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             }
         }
         ++evaluated_;
-        const double value = recon_.value(set.reconstruction, p);
+        const double value = rayPolynomial_ ? recon_.bsplineOnRay(oIdx_, dIdx_, t)
+                                            : recon_.value(set.reconstruction, p);
         double alpha;
         Spectrum colour;
         if (pre) {

@@ -210,6 +210,7 @@ private:
     GridReconstructor recon_;
     Vec3 oIdx_{0.0}, dIdx_{0.0};
     double tEnter_ = 0.0, tExit_ = -1.0, dt_ = 1.0, jitter_ = 0.0;
+    bool rayPolynomial_ = false;   // B-spline values from the ray's polynomial per cell
     double stepRefLengths_ = 1.0;  // world length of one step / ℓ_ref: the opacity exponent
     double invDIdx_[3] = {0, 0, 0}, invDt_ = 1.0;  // 1 / dIdx_ (0 where dIdx_ is 0), 1 / dt_
     double kLast_ = -1.0;          // the last lattice index inside the domain (t ≤ tExit)

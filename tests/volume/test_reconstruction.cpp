@@ -4,7 +4,9 @@
 // approximates, trilinear interpolates), and world-space gradients under anisotropic spacing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "dvr_test_grids.h"
 #include "volume/reconstruction.h"
@@ -131,6 +133,38 @@ TEST(Reconstruction, DenseCopyGivesTheSameBits) {
     EXPECT_EQ(*dense.at(-12, 13, 8), 0.25f);
     EXPECT_TRUE(dense.holds(-12, -9, -15, 4));
     EXPECT_FALSE(dense.holds(8, 0, 0, 4));  // 8 … 11 passes x = 10
+}
+
+TEST(Reconstruction, BSplineAlongARayMatchesPointEvaluation) {
+    // The ray's polynomial per cell (bsplineOnRay) against bspline() at the same points: dense
+    // samples along rays in every direction (axis-aligned ones included) through a rough field,
+    // two readers alternating between rays (the cache must follow the ray, not only the cell),
+    // and t decreasing as well as increasing. Values are O(1); rounding of the degree-9
+    // polynomial's coefficients is ~1e-15 of them.
+    openvdb::initialize();
+    auto grid = test::makeGrid(
+        [](int i, int j, int k) { return std::sin(0.9 * i) * std::cos(0.7 * j) + 0.05 * k * k; },
+        Coord(-4), Coord(20));
+    GridReconstructor onRay(*grid), alternating(*grid), atPoint(*grid);
+    const Vec3 dirs[] = {Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, 0.5), Vec3(0.3, 0.7, -0.2),
+                         Vec3(-0.61, 0.13, 0.77), Vec3(2.0, 1.5, 0.25)};
+    double worst = 0.0;
+    for (const Vec3& d : dirs)
+        for (const Vec3& o : {Vec3(0.37, 0.81, 0.12), Vec3(8.0, 8.0, 8.0), Vec3(3.5, 12.25, 6.0)}) {
+            for (int n = 0; n <= 400; ++n) {
+                const double t = (n % 2 ? 400 - n : n) * 0.0173;  // forwards and backwards
+                const double v = onRay.bsplineOnRay(o, d, t);
+                const double w = atPoint.bspline(o + d * t);
+                worst = std::max(worst, std::abs(v - w));
+                ASSERT_NEAR(v, w, 1e-12) << "o " << o << " d " << d << " t " << t;
+                // Another reader alternates between this ray and a parallel one: no call may
+                // reuse the other ray's polynomial.
+                const Vec3 o2 = o + Vec3(0.5, 0.25, 0.0);
+                ASSERT_NEAR(alternating.bsplineOnRay(o, d, t), w, 1e-12);
+                ASSERT_NEAR(alternating.bsplineOnRay(o2, d, t), atPoint.bspline(o2 + d * t), 1e-12);
+            }
+        }
+    std::printf("largest difference from point evaluation: %.3g\n", worst);
 }
 
 }  // namespace
