@@ -117,7 +117,9 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
     {
         // Early out: [t0, t1] misses the box of the brick's straddling cells, widened by
         // kStraddleBoxMarginVoxels to cover the walk's rounding and the cells it clamps in from
-        // the overlap. The walk itself still starts at t0, so a ray that passes is unchanged.
+        // the overlap. Else the walk covers that box only: roots lie in straddling cells, and
+        // the cells outside it cannot change sign between them (two cells a ray passes in turn
+        // share at least a corner, so one all below iso and one all above never meet).
         const std::array<std::uint8_t, 6>& sb = cells.straddleBox;
         double s0 = t0, s1 = t1;
         for (int a = 0; a < 3; ++a) {
@@ -133,6 +135,8 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
             s1 = std::min(s1, tb);
         }
         if (!(s0 <= s1)) return false;
+        t0 = s0;
+        t1 = s1;
     }
 
     // DDA state per axis (Amanatides & Woo 1987): the next integer plane k, reached at
