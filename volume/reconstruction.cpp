@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "core/error.h"
 
@@ -308,6 +309,33 @@ double GridReconstructor::bsplineOnRay(const Vec3& o, const Vec3& d, double t) {
 }
 
 Vec3 GridReconstructor::centralDifferences(const Vec3& p) {
+    // From the dense copy: the trilinear interpolation of the voxel central differences at the
+    // cell's 8 corners (the same field, head of reconstruction.h), read once from the 32 voxels
+    // they use, instead of six trilinear look-ups of 8 voxels each. Equal up to rounding.
+    const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
+    const int i = int(fx), j = int(fy), k = int(fz);
+    if (dense_ && dense_->holds(i - 1, j - 1, k - 1, 4)) {
+        const float* q = dense_->at(i, j, k);
+        const std::ptrdiff_t sx = std::ptrdiff_t(dense_->xStride()),
+                             sy = std::ptrdiff_t(dense_->yStride());
+        const double tx = p.x - fx, ty = p.y - fy, tz = p.z - fz;
+        // d[a][c]: half the difference along axis a at corner c = dx + 2dy + 4dz.
+        double d[3][8];
+        for (int c = 0; c < 8; ++c) {
+            const float* v = q + (c & 1) * sx + ((c >> 1) & 1) * sy + ((c >> 2) & 1);
+            d[0][c] = 0.5 * (double(v[sx]) - double(v[-sx]));
+            d[1][c] = 0.5 * (double(v[sy]) - double(v[-sy]));
+            d[2][c] = 0.5 * (double(v[1]) - double(v[-1]));
+        }
+        auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
+        double g[3];
+        for (int a = 0; a < 3; ++a) {
+            const double* c = d[a];
+            g[a] = lerp(lerp(lerp(c[0], c[1], tx), lerp(c[2], c[3], tx), ty),
+                        lerp(lerp(c[4], c[5], tx), lerp(c[6], c[7], tx), ty), tz);
+        }
+        return Vec3(g[0], g[1], g[2]);
+    }
     return Vec3(0.5 * (trilinear(p + Vec3(1, 0, 0)) - trilinear(p - Vec3(1, 0, 0))),
                 0.5 * (trilinear(p + Vec3(0, 1, 0)) - trilinear(p - Vec3(0, 1, 0))),
                 0.5 * (trilinear(p + Vec3(0, 0, 1)) - trilinear(p - Vec3(0, 0, 1))));
