@@ -16,10 +16,10 @@ Spectrum Phong::eval(const Vec3& wi, const Vec3& wo) const {
     if (!aboveHorizon(wi, wo)) return Spectrum(0.0);
     const double c = cosAlpha(wi, wo);
     Spectrum f;
-    // One pow per distinct exponent (the bands usually share it; the same bits either way).
-    double power = std::pow(c, exponent[0]);
+    // One power per distinct exponent (the bands usually share it; the same bits either way).
+    double power = powerOf(c, exponent[0]);
     for (int b = 0; b < kBandCount; ++b) {
-        if (b > 0 && exponent[b] != exponent[b - 1]) power = std::pow(c, exponent[b]);
+        if (b > 0 && exponent[b] != exponent[b - 1]) power = powerOf(c, exponent[b]);
         f[b] = ks[b] * power;
     }
     return f;

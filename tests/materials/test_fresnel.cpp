@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace lobe {
 
 // Normal incidence identity of shared/docs/brdf-models.md: F(1) = ((η−1)² + κ²)/((η+1)² + κ²).
@@ -41,6 +43,22 @@ TEST(Fresnel, SchlickEndpoints) {
     EXPECT_DOUBLE_EQ(fresnelSchlick(0.05, 1.0), 0.05);
     EXPECT_DOUBLE_EQ(fresnelSchlick(0.05, 0.0), 1.0);
     EXPECT_NEAR(fresnelSchlick(0.05, 0.5), 0.05 + 0.95 / 32.0, 1e-15);
+}
+
+TEST(PowerOf, WholeExponentsMatchStdPowAndOthersAreStdPow) {
+    // Repeated squaring for whole exponents 0…1024 against std::pow, x over [0, 1] (cos α) and
+    // a little above; a fractional or out-of-range exponent is std::pow itself.
+    for (int e = 0; e <= 1024; e += (e < 70 ? 1 : 37))
+        for (int i = 0; i <= 200; ++i) {
+            const double x = i / 180.0;
+            const double expected = std::pow(x, double(e));
+            EXPECT_NEAR(powerOf(x, double(e)), expected, 1e-13 * expected + 1e-300)
+                << "x " << x << " e " << e;
+        }
+    EXPECT_EQ(powerOf(0.0, 0.0), 1.0);
+    EXPECT_EQ(powerOf(0.0, 30.0), 0.0);
+    EXPECT_EQ(powerOf(0.7, 10.5), std::pow(0.7, 10.5));
+    EXPECT_EQ(powerOf(0.7, 2000.0), std::pow(0.7, 2000.0));
 }
 
 }  // namespace lobe
