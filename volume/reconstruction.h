@@ -97,6 +97,8 @@ public:
     // bspline() costs ~90. Worth it from ~7 samples a cell (steps below ~0.1 voxel). Equal to
     // bspline(o + d·t) up to rounding (~1e-13 of the block's values; tested).
     double bsplineOnRay(const Vec3& o, const Vec3& d, double t);
+    // Drops bsplineOnRay's polynomial (the next call builds one).
+    void forgetRay() { ray_.valid = false; }
     // Value and index-space gradient with the chosen filter and gradient method; the value of the
     // B-spline + B-spline-derivative pair comes from the same fetch.
     double valueAndGradient(Reconstruction r, GradientMethod g, const Vec3& p, Vec3& gradient);

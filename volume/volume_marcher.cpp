@@ -297,6 +297,10 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     // Opacity exponent: the world length of one step in reference voxel lengths (header).
     stepRefLengths_ = dt_ * ray.d.length() / g.referenceVoxelLength();
     lastAlphaVoxel_ = -1.0;
+    // A polynomial from an earlier march of the same ray (built at another jitter) would give
+    // the same values up to rounding only: each march builds its own, so an image does not
+    // depend on what a thread rendered before.
+    recon_.forgetRay();
     prevK_ = -2;
     prevSkippable_ = false;
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
