@@ -42,6 +42,8 @@ public:
         : scene_(spec, progress, cache), integrator_(scene_) {}
 
     const SceneSpec& spec() const { return scene_.spec(); }
+    // Another view of the same scene (Scene::setView): an orbit's next frame.
+    void setView(const SceneSpec& frame) { scene_.setView(frame); }
     const Scene& scene() const { return scene_; }
     // Renders at the spec's size, samples and seed. With `aov` and `aovs`, also the per-object
     // passes (render/aov.h) of the same samples; the beauty image is the same either way.

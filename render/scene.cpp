@@ -254,7 +254,8 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
     const std::string error = volumes.preload({&spec_}).front();
     if (!error.empty()) throw Error(error);
     Vec3 lo(kInf), hi(-kInf);
-    std::vector<WorldBox> objectBoxes(spec_.objects.size());  // for camera.fit (framing.h)
+    std::vector<WorldBox>& objectBoxes = objectBoxes_;  // for camera.fit (framing.h)
+    objectBoxes.assign(spec_.objects.size(), WorldBox());
     for (size_t i = 0; i < spec_.objects.size(); ++i) {
         const ObjectSpec& object = spec_.objects[i];
         const std::string context =
@@ -305,6 +306,34 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
 
     // The camera and lights a scene asks to be computed from the objects' boxes (framing.h).
     resolveView(spec_, objectBoxes);
+    worldBox_.lo = lo;
+    worldBox_.hi = hi;
+    placeView();
+}
+
+void Scene::setView(const SceneSpec& frame) {
+    if (frame.objects.size() != spec_.objects.size() || frame.path != spec_.path)
+        throw Error("internal: Scene::setView given another scene (" + frame.path + ")");
+    SceneSpec resolved = frame;
+    resolveView(resolved, objectBoxes_);
+    spec_.cameraPosition = resolved.cameraPosition;
+    spec_.cameraTarget = resolved.cameraTarget;
+    spec_.cameraUp = resolved.cameraUp;
+    spec_.fovDegrees = resolved.fovDegrees;
+    spec_.crop = resolved.crop;
+    spec_.lights = resolved.lights;
+    spec_.fit = resolved.fit;
+    spec_.zoom = resolved.zoom;
+    spec_.lightRig = resolved.lightRig;
+    spec_.orbitDeg = resolved.orbitDeg;
+    spec_.title = resolved.title;
+    spec_.outputSuffix = resolved.outputSuffix;
+    spec_.group = resolved.group;
+    placeView();
+}
+
+void Scene::placeView() {
+    const Vec3 lo = worldBox_.lo, hi = worldBox_.hi;
     try {
         camera_ = PinholeCamera(spec_.cameraPosition, spec_.cameraTarget, spec_.cameraUp,
                                 spec_.fovDegrees, double(spec_.width) / spec_.height, spec_.crop);

@@ -8,6 +8,7 @@
 #include "core/camera.h"
 #include "materials/material.h"
 #include "render/backdrop.h"
+#include "render/framing.h"
 #include "render/scene_description.h"
 #include "volume/volume.h"
 
@@ -77,6 +78,13 @@ public:
     Scene& operator=(const Scene&) = delete;
 
     const SceneSpec& spec() const { return spec_; }
+    // Turns the assembled scene to another frame of itself: `frame` must be the scene it was
+    // built from with another view only (an orbit frame: render/framing.h, orbitFrames). Its
+    // camera, lights, orbit angle, title and output names are resolved against the objects'
+    // boxes as the constructor does, and the camera and backdrop placed anew; the surfaces and
+    // volume structures are kept (a turntable assembles them once). Throws lobe::Error when the
+    // frame's camera is invalid.
+    void setView(const SceneSpec& frame);
     const PinholeCamera& camera() const { return camera_; }
     const Backdrop& backdrop() const { return backdrop_; }
     const SurfaceScene* surfaces() const { return surfaces_.get(); }  // null: no surface
@@ -84,7 +92,12 @@ public:
     const std::vector<SceneVolume>& volumeObjects() const { return volumeObjects_; }
 
 private:
+    // camera_ and backdrop_ from spec_'s resolved view and the objects' world box.
+    void placeView();
+
     SceneSpec spec_;
+    std::vector<WorldBox> objectBoxes_;  // each object's world box (framing.h)
+    WorldBox worldBox_;                  // all objects'
     PinholeCamera camera_;
     Backdrop backdrop_;
     std::unique_ptr<SurfaceScene> surfaces_;

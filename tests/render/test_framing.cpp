@@ -348,4 +348,50 @@ TEST(Framing, SceneFitsTheCameraToTheLoadedVolumesBox) {
     EXPECT_NEAR(top.at(tNear).z, 19.5 + 1.1 * 20.0, 1e-9);
 }
 
+// An orbit's frames share one assembled scene (`lobe render --orbit`): a scene built for frame 0
+// and turned to frame k by setView renders frame k bit for bit as a scene built for it, backdrop
+// included (it is placed from the view).
+TEST(Framing, SceneTurnedToAnOrbitFrameRendersAsOneBuiltForIt) {
+    const fs::path dir = fs::temp_directory_path() / "lobe_framing_orbit_test";
+    fs::create_directories(dir);
+    std::vector<float> slab(4 * 4 * 40);
+    for (size_t i = 0; i < slab.size(); ++i) slab[i] = float((i * 7919) % 13) / 12.0f;
+    std::ofstream(dir / "slab.raw", std::ios::binary)
+        .write(reinterpret_cast<const char*>(slab.data()), std::streamsize(slab.size() * 4));
+    const std::string text = R"({"image": {"width": 24, "height": 20, "samples_per_pixel": 2},
+        "camera": {"fit": {"azimuth_deg": 30, "elevation_deg": 10}}, "lights": {"rig": "paper"},
+        "volume": {"step_voxels": 0.5},
+        "objects": [{"name": "iso", "kind": "isosurface", "iso": 0.5, "opacity": 0.5,
+          "source": {"path": "slab.raw", "dims": [4, 4, 40], "type": "float32"},
+          "brdf": {"model": "ward"}},
+          {"name": "dvr", "kind": "volume",
+          "source": {"path": "slab.raw", "dims": [4, 4, 40], "type": "float32"},
+          "transfer_function": {"points": [{"value": 0.2, "opacity": 0},
+                                           {"value": 0.9, "opacity": 0.3}]},
+          "brdf": {"model": "phong"}}]})";
+    const std::vector<SceneSpec> frames =
+        orbitFrames(parseScene(text, dir.string(), "slab.json"), 3);
+    RenderScene turned(frames[0], false);
+    RenderOptions options;
+    options.progress = false;
+    for (size_t k = 1; k < frames.size(); ++k) {
+        turned.setView(frames[k]);
+        const RenderScene built(frames[k], false);
+        EXPECT_EQ(turned.spec().title, built.spec().title);
+        EXPECT_EQ(turned.spec().outputSuffix, built.spec().outputSuffix);
+        expectNear(turned.spec().cameraPosition, built.spec().cameraPosition, 0.0);
+        const Film a = turned.render(options), b = built.render(options);
+        ASSERT_EQ(a.pixels().size(), b.pixels().size());
+        size_t lit = 0;
+        for (size_t i = 0; i < a.pixels().size(); ++i) {
+            for (int c = 0; c < kBandCount; ++c) ASSERT_EQ(a.pixels()[i][c], b.pixels()[i][c]) << i;
+            lit += a.pixels()[i].maxValue() > 0.0;
+        }
+        EXPECT_EQ(lit, a.pixels().size());  // the backdrop fills the rest
+    }
+    // Frame 1 is not frame 0: the turn did change the view.
+    const RenderScene first(frames[0], false);
+    EXPECT_GT((first.spec().cameraPosition - turned.spec().cameraPosition).length(), 1.0);
+}
+
 }  // namespace lobe
