@@ -74,6 +74,8 @@ namespace {
 // rounding).
 constexpr double kSixth = 1.0 / 6.0;
 
+inline double lerp(double a, double b, double t) { return a + t * (b - a); }
+
 inline void bsplineWeights(double t, double w[4]) {
     const double s = 1.0 - t;
     const double t2 = t * t, t3 = t2 * t;
@@ -112,7 +114,6 @@ double GridReconstructor::trilinear(const Vec3& p) {
                 for (int dx = 0; dx < 2; ++dx)
                     c[dz][dy][dx] = acc_.getValue(openvdb::Coord(i + dx, j + dy, k + dz));
     }
-    auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
     const double c00 = lerp(c[0][0][0], c[0][0][1], tx), c01 = lerp(c[0][1][0], c[0][1][1], tx);
     const double c10 = lerp(c[1][0][0], c[1][0][1], tx), c11 = lerp(c[1][1][0], c[1][1][1], tx);
     return lerp(lerp(c00, c01, ty), lerp(c10, c11, ty), tz);
@@ -256,12 +257,10 @@ double GridReconstructor::bsplineOnRay(const Vec3& o, const Vec3& d, double t) {
         // cubic in s by its Taylor expansion at u (the derivatives of the weights in the file's
         // head): W[a][k] = w_a^(k)(u) e^k / k!.
         auto weights = [](double u, double e, double W[4][4]) {
-            const double v = 1.0 - u, e2 = e * e, e3 = e2 * e;
-            double w[4];
-            bsplineWeights(u, w);
-            const double d1[4] = {-0.5 * v * v, 0.5 * (3.0 * u * u - 4.0 * u),
-                                  0.5 * (-3.0 * u * u + 2.0 * u + 1.0), 0.5 * u * u};
-            const double d2[4] = {v, 3.0 * u - 2.0, 1.0 - 3.0 * u, u};
+            const double e2 = e * e, e3 = e2 * e;
+            double w[4], d1[4];
+            bsplineWeights(u, w, d1);  // the weights and their first derivatives
+            const double d2[4] = {1.0 - u, 3.0 * u - 2.0, 1.0 - 3.0 * u, u};
             const double d3[4] = {-1.0, 3.0, -3.0, 1.0};
             for (int a = 0; a < 4; ++a) {
                 W[a][0] = w[a];
@@ -327,7 +326,6 @@ Vec3 GridReconstructor::centralDifferences(const Vec3& p) {
             d[1][c] = 0.5 * (double(v[sy]) - double(v[-sy]));
             d[2][c] = 0.5 * (double(v[1]) - double(v[-1]));
         }
-        auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
         double g[3];
         for (int a = 0; a < 3; ++a) {
             const double* c = d[a];
