@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 namespace lobe {
 namespace {
@@ -105,6 +106,21 @@ constexpr int kResync = 32;
 // between the short recurrences and made the walk ~1.5× slower.
 constexpr int kBlock = 16;
 
+// The cost bound. Past its peak the series' log-term L(m) is concave with −L''(m) ≥ 1/(m + 1) −
+// 1/m² (ψ'(m+1) ≥ 1/(m+1); the a-term only adds curvature), so M terms beyond the peak p fall
+// below e^{−(M − p)²/(2(M + 1))} of it (below it likewise, walking down towards m = 1). With
+// M − p = kCapBase + kCapPerSpread·√(p + 1) that exponent is over 100, where the doc's rule
+// (a term below 1e-12 of the sum, e^{−27.6}) has long stopped every walk: each walk stops after
+// at most this many terms, a bound never reached in range (tests count the terms over the
+// parameter ranges and extreme grazing directions) that makes every evaluation's cost finite
+// whatever its arithmetic meets (it bounded 1e9 terms before: issue 32's 7-s evaluation).
+constexpr double kCapBase = 256.0;
+constexpr double kCapPerSpread = 16.0;
+double termCap(double peak) { return kCapBase + kCapPerSpread * std::sqrt(peak + 1.0); }
+
+// Terms summed by this thread's walks: an operation count for the tests' cost bound.
+thread_local std::uint64_t tTermsSummed = 0;
+
 // L(m) = ln T_m = m ln g − g − lnΓ(m+1) − ln m − a/m. Written so, m ln g, g and lnΓ(m+1) are each
 // ~g ln g for the peak m ≈ g and cancel to O(ln g): an absolute rounding error of ~ε·g·ln g, i.e.
 // ~1e-9 relative in T for g ~ 1e6 (σ0/λ ~ 100). For m ≥ 30 the Stirling series (Abramowitz &
@@ -127,11 +143,15 @@ double logSeriesTerm(double m, double g, double lnG, double a) {
 // small (small m, large a) each term takes a fresh exp; from there on, since the steps only
 // shrink as m grows, blocks. Returns the sum of the terms the doc's rule keeps.
 double sumUpFromPeak(double peak, double g, double a) {
-    const double twoA = 2.0 * a;
+    const double twoA = 2.0 * a, last = peak + termCap(peak);
     double sum = 0.0, m = peak, t = 1.0;
+    const auto count = [&](double mEnd, double s) {
+        tTermsSummed += static_cast<std::uint64_t>(mEnd - peak + 1.0);
+        return s;
+    };
     while (twoA / (m * (m + 1.0) * (m + 2.0)) > kSmallStep) {
         sum += t;
-        if ((m > g && t < kSeriesTolerance * sum) || m > 1e9) return sum;
+        if ((m > g && t < kSeriesTolerance * sum) || m >= last) return count(m, sum);
         const double invM1 = 1.0 / (m + 1.0);
         t *= g * m * invM1 * invM1 * std::exp(a / m * invM1);
         m += 1.0;
@@ -149,12 +169,12 @@ double sumUpFromPeak(double peak, double g, double a) {
             }
             for (int k = 0; k < kBlock; ++k) {
                 sum += t;
-                if (m + k > g && t < kSeriesTolerance * sum) return sum;
+                if (m + k > g && t < kSeriesTolerance * sum) return count(m + k, sum);
                 t *= ratio[k] * e;
                 e *= factor[k];
             }
             m += kBlock;
-            if (m > 1e9) return sum;  // unreachable for the parameter ranges; a guard
+            if (m >= last) return count(m - 1.0, sum);  // the cost bound (termCap)
         }
     }
 }
@@ -167,19 +187,25 @@ double addDownFromPeak(double peak, double g, double a, double sum) {
     if (!(peak > 1.0)) return sum;
     const double twoA = 2.0 * a;
     const double invG = 1.0 / g;
+    const double first = std::max(1.0, peak - termCap(peak));  // the cost bound (termCap)
     double m = peak - 1.0, t = 1.0;  // the next term is T_m; t = T_{m+1}
+    const auto count = [&](double mEnd, double s) {
+        tTermsSummed += static_cast<std::uint64_t>(peak - mEnd);
+        return s;
+    };
     double mSmall = std::max(2.0, std::floor(std::cbrt(twoA / kSmallStep)));
     while (mSmall > 2.0 && twoA / ((mSmall - 2.0) * (mSmall - 1.0) * mSmall) <= kSmallStep)
         mSmall -= 1.0;
     while (twoA / ((mSmall - 1.0) * mSmall * (mSmall + 1.0)) > kSmallStep) mSmall += 1.0;
-    while (m >= mSmall) {
+    const double blocksTo = std::max(mSmall, first);
+    while (m >= blocksTo) {
         double e = std::exp(-a * (1.0 / m) * (1.0 / (m + 1.0)));  // e^{−x_m}, fresh
-        for (int done = 0; done < kResync && m >= mSmall;) {
+        for (int done = 0; done < kResync && m >= blocksTo;) {
             // Term k of the block is T_{m−k} = T_{m−k+1}·ratio[k]·e^{−x_{m−k}};
             // factor[k] = e^{−(x_{m−k−1} − x_{m−k})}. inv[j] = 1/(m + 1 − j) ≥ 1/(mSmall − 1).
             const int n = static_cast<int>(std::min({static_cast<double>(kBlock),
                                                      static_cast<double>(kResync - done),
-                                                     m - mSmall + 1.0}));
+                                                     m - blocksTo + 1.0}));
             double inv[kBlock + 2], ratio[kBlock], factor[kBlock];
             for (int k = 0; k < n + 2; ++k) inv[k] = 1.0 / (m + 1.0 - k);
             for (int k = 0; k < n; ++k) {
@@ -189,20 +215,20 @@ double addDownFromPeak(double peak, double g, double a, double sum) {
             for (int k = 0; k < n; ++k) {
                 t *= ratio[k] * e;
                 sum += t;
-                if (t < kSeriesTolerance * sum) return sum;
+                if (t < kSeriesTolerance * sum) return count(m - k, sum);
                 e *= factor[k];
             }
             m -= n;
             done += n;
         }
     }
-    for (; m >= 1.0; m -= 1.0) {
+    for (; m >= first; m -= 1.0) {
         const double invM = 1.0 / m;
         t *= (m + 1.0) * (m + 1.0) * invG * invM * std::exp(-a * invM / (m + 1.0));
         sum += t;
-        if (t < kSeriesTolerance * sum || m <= 1.0) break;
+        if (t < kSeriesTolerance * sum || m <= 1.0) return count(m, sum);
     }
-    return sum;
+    return count(m + 1.0, sum);
 }
 
 // --- Strided walks -----------------------------------------------------------------------------
@@ -270,8 +296,12 @@ void strideBlock(double m0, int dir, int n, int h, double invG, double a, double
 // small, which they are from the block's first on since they shrink as m grows; a fresh exp
 // starts each block. Returns the strided sum (without the factor h).
 double sumUpStrided(double peak, double g, double a, int h) {
-    const double invG = 1.0 / g, stop = kSeriesTolerance * h;
+    const double invG = 1.0 / g, stop = kSeriesTolerance * h, last = peak + termCap(peak);
     double sum = 0.0, m = peak, t = 1.0;
+    const auto count = [&](double mEnd, double s) {
+        tTermsSummed += static_cast<std::uint64_t>((mEnd - peak) / h + 1.0);
+        return s;
+    };
     for (;;) {
         double ratio[kStrideBlock], y[kStrideBlock], step[kStrideBlock];
         strideBlock(m, +1, kStrideBlock, h, invG, a, ratio, y, step);
@@ -279,12 +309,12 @@ double sumUpStrided(double peak, double g, double a, int h) {
         double e = std::exp(y[0]);
         for (int k = 0; k < kStrideBlock; ++k) {
             sum += t;
-            if (m + k * h > g && t < stop * sum) return sum;
+            if (m + k * h > g && t < stop * sum) return count(m + k * h, sum);
             t *= ratio[k] * e;
             if (k + 1 < kStrideBlock) e = small ? e * expSmall(step[k]) : std::exp(y[k + 1]);
         }
         m += kStrideBlock * h;
-        if (m > 1e9) return sum;  // unreachable for the parameter ranges; a guard
+        if (m >= last) return count(m - h, sum);  // the cost bound (termCap)
     }
 }
 
@@ -293,9 +323,14 @@ double sumUpStrided(double peak, double g, double a, int h) {
 // block's last (largest) step is small. Returns the new strided sum.
 double addDownStrided(double peak, double g, double a, int h, double sum) {
     const double invG = 1.0 / g, stop = kSeriesTolerance * h;
+    const double first = std::max(1.0, peak - termCap(peak));  // the cost bound (termCap)
     double m = peak - h, t = 1.0;
-    while (m >= 1.0) {
-        const int n = static_cast<int>(std::min<double>(kStrideBlock, std::floor((m - 1.0) / h) + 1.0));
+    const auto count = [&](double mEnd, double s) {
+        tTermsSummed += static_cast<std::uint64_t>((peak - mEnd) / h);
+        return s;
+    };
+    while (m >= first) {
+        const int n = static_cast<int>(std::min<double>(kStrideBlock, std::floor((m - first) / h) + 1.0));
         double ratio[kStrideBlock], y[kStrideBlock] = {}, step[kStrideBlock];
         strideBlock(m, -1, n, h, invG, a, ratio, y, step);
         const bool small = n < 2 || step[n - 2] <= kSmallStep;
@@ -303,12 +338,12 @@ double addDownStrided(double peak, double g, double a, int h, double sum) {
         for (int k = 0; k < n; ++k) {
             t *= e / ratio[k];
             sum += t;
-            if (t < stop * sum) return sum;
+            if (t < stop * sum) return count(m - k * h, sum);
             if (k + 1 < n) e = small ? e * expSmall(-step[k]) : std::exp(-y[k + 1]);
         }
         m -= n * h;
     }
-    return sum;
+    return count(m + h, sum);
 }
 
 }  // namespace
@@ -364,6 +399,10 @@ double HeTorrance::distributionD(double g, double vxy2, double tau, int maxStrid
          ++k)
         peak += 1.0;
     const double logPeak = logSeriesTerm(peak, g, lnG, a);
+    // Below e^{−746} the peak term's exp is 0 in double, and so is D (the sum of terms relative to
+    // the peak is finite): nothing to sum. This is where g is denormal or a huge (extreme grazing
+    // directions), and where the walks' ratios would meet 1/g = ∞ or e^{a/m} = ∞.
+    if (logPeak < -746.0) return 0.0;
 
     // The two walks from the peak (terms relative to T_peak = 1), in the order the stopping rule
     // sees them: up first, then down relative to the whole sum; every h-th term where the terms
@@ -373,6 +412,8 @@ double HeTorrance::distributionD(double g, double vxy2, double tau, int maxStrid
                               : h * addDownStrided(peak, g, a, h, sumUpStrided(peak, g, a, h));
     return kPi * kPi * tau * tau / 4.0 * std::exp(logPeak) * sum;
 }
+
+std::uint64_t HeTorrance::termsSummed() { return tTermsSummed; }
 
 double HeTorrance::shadowingS(double cosTheta, double sigma0, double tau) {
     return directionTerms(cosTheta, sigma0, tau).s;

@@ -21,6 +21,8 @@
 #include "materials/brdf_common.h"
 #include "materials/param_table.h"
 
+#include <cstdint>
+
 namespace lobe {
 
 struct HeTorrance {
@@ -50,6 +52,9 @@ struct HeTorrance {
     // D for given g and vxy2 = k²(H·t² + H·b²). maxStride 1 sums every term (the unit walk);
     // the default lets wide series be summed every h-th term (he_torrance.cpp, strideFor).
     static double distributionD(double g, double vxy2, double tau, int maxStride = 16);
+    // The series terms this thread has summed so far (all evaluations): the operation count by
+    // which tests bound an evaluation's cost (he_torrance.cpp, termCap).
+    static std::uint64_t termsSummed();
     // S(θ) for cos θ = cosTheta.
     static double shadowingS(double cosTheta, double sigma0, double tau);
     // K(θ) and S(θ) together: they share erfc(τ cot θ / (2σ0)).

@@ -12,12 +12,14 @@
 // z0 (Newton) is checked against its defining equation and the whole BRDF against independent
 // Python values in test_he_torrance.cpp.
 #include "core/rng.h"
+#include "materials/he_torrance.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -176,6 +178,83 @@ TEST(HeTorranceReference, SeriesDMatchesHighPrecisionValuesOfTheRule) {
         EXPECT_LE(relativeDifference(HeTorrance::distributionD(c.g, vxy2, tau), c.d), allowed(c.g))
             << "g " << c.g << " a " << c.a;
     }
+}
+
+
+// --- Bounded cost (issue 32) ---------------------------------------------------------------------
+// Every evaluation sums at most a bounded number of series terms, whatever the directions and
+// parameters in range. The fuzz step of `make test` once reached directions 1e-161 and 1e-200
+// above the horizon, where g underflows to the smallest denormal and a ≈ 2000: the ratios met
+// 0·∞, the sum turned NaN, no stopping rule could fire and the walk ran to its 1e9-term guard
+// (7 s in a Release build). The count of terms (HeTorrance::termsSummed) is the budget, so the
+// test does not depend on the machine's speed.
+constexpr std::uint64_t kTermBudgetPerBand = 45000;  // 2 walks of termCap(e·1.6e6 + …) ≈ 2 × 21 k
+
+std::uint64_t termsOf(const Brdf& brdf, const Vec3& wi, const Vec3& wo, Spectrum& f) {
+    const std::uint64_t before = HeTorrance::termsSummed();
+    f = evalBrdf(brdf, wi, wo);
+    return HeTorrance::termsSummed() - before;
+}
+
+TEST(HeTorranceCost, TheFuzzFindingIsCheapAndZero) {
+    // `lobe brdf eval he_torrance` with the line "1,0,1e-161 ,0,11,01e-200".
+    const Brdf brdf = makeBrdf("he_torrance", {});
+    const Vec3 wi = Vec3(1.0, 0.0, 1e-161).normalized(), wo = Vec3(0.0, 11.0, 1e-200).normalized();
+    Spectrum f;
+    EXPECT_LE(termsOf(brdf, wi, wo, f), 3 * kTermBudgetPerBand);
+    for (int b = 0; b < kBandCount; ++b) EXPECT_EQ(f[b], 0.0);
+    // Its g and a: D is below the double range (the definition in long double rounds to 0).
+    const double g = 4.9406564584124654e-324, vxy2 = 78.956835208714864, tau = 10.0;
+    EXPECT_EQ(HeTorrance::distributionD(g, vxy2, tau), 0.0);
+    EXPECT_EQ(seriesByDefinition(g, vxy2, tau), 0.0);
+}
+
+TEST(HeTorranceCost, EveryEvaluationStaysWithinItsTermBudget) {
+    // Heights 1e-300 … 1 above the horizon for both directions, at azimuths apart by 0, 90 and
+    // 180 degrees, with σ0/λ and τ/λ at the ends and the middle of their ranges.
+    const double heights[] = {1e-300, 1e-200, 1e-161, 1e-100, 1e-30, 1e-12, 1e-6, 1e-3, 0.05, 0.5, 1.0};
+    const double azimuths[] = {0.0, 0.5 * kPi, kPi};
+    std::uint64_t most = 0;
+    int evaluations = 0;
+    for (const char* sigma0 : {"0.01", "1", "100"})
+        for (const char* tau : {"0.01", "10", "1000"}) {
+            const Brdf brdf = makeBrdf("he_torrance", {std::string("sigma0_over_lambda=") + sigma0,
+                                                       std::string("tau_over_lambda=") + tau});
+            for (const double zi : heights)
+                for (const double zo : heights)
+                    for (const double phi : azimuths) {
+                        const Vec3 wi = Vec3(1.0, 0.0, zi).normalized();
+                        const Vec3 wo = Vec3(-std::cos(phi), std::sin(phi), zo).normalized();
+                        Spectrum f;
+                        const std::uint64_t terms = termsOf(brdf, wi, wo, f);
+                        ++evaluations;
+                        most = std::max(most, terms);
+                        EXPECT_LE(terms, 3 * kTermBudgetPerBand)
+                            << "sigma0 " << sigma0 << " tau " << tau << " zi " << zi << " zo " << zo;
+                        for (int b = 0; b < kBandCount; ++b)
+                            ASSERT_TRUE(std::isfinite(f[b]) && f[b] >= 0.0);
+                    }
+        }
+    std::printf("%d evaluations, at most %llu series terms in one\n", evaluations,
+                static_cast<unsigned long long>(most));
+}
+
+// The bound never binds in range: g and a across their whole ranges, down to denormal g, sum no
+// more terms than the cap allows and agree with the definition (so the cap changes no value).
+TEST(HeTorranceCost, TheCapNeverBindsInRange) {
+    for (const double g : {4.9406564584124654e-324, 1e-310, 1e-300, 1e-100, 1e-12, 3.0, 1.6e6})
+        for (const double a : {0.0, 60.0, 1974.0, 3.9e7}) {
+            const double tau = 10.0, vxy2 = 4.0 * a / (tau * tau);
+            const std::uint64_t before = HeTorrance::termsSummed();
+            const double d = HeTorrance::distributionD(g, vxy2, tau, 1);
+            const std::uint64_t terms = HeTorrance::termsSummed() - before;
+            ASSERT_TRUE(std::isfinite(d)) << "g " << g << " a " << a;
+            EXPECT_LE(terms, kTermBudgetPerBand) << "g " << g << " a " << a;
+            // (g = 1.6e6 against the definition: SeriesDMatchesTheDefinitionAcrossGAndA.)
+            if (g < 10.0)
+                EXPECT_LE(relativeDifference(d, seriesByDefinition(g, vxy2, tau)), allowed(g))
+                    << "g " << g << " a " << a;
+        }
 }
 
 }  // namespace
