@@ -18,10 +18,11 @@ demo: build
 	$(LOBE) demo --out out
 
 # The whole suite, then the unit tests under AddressSanitizer + UndefinedBehaviorSanitizer and a
-# short run of every fuzz target (FUZZ_QUICK seconds each), both from one clang build (build-san).
+# fixed number of inputs through every fuzz target (the same inputs on any machine), both from one
+# clang build (build-san).
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
-	@$(MAKE) --no-print-directory sanitize FUZZ_SECONDS=$(FUZZ_QUICK)
+	@$(MAKE) --no-print-directory sanitize
 
 # One ASan + UBSan clang build (build-san) serves both the sanitised unit tests and the libFuzzer
 # targets in fuzz/ (the library is compiled once, with -fsanitize=fuzzer-no-link). About 8 min to
@@ -29,7 +30,6 @@ test: build
 # (reached from OpenVDB).
 SAN_DIR ?= build-san
 FUZZ_SECONDS ?= 60
-FUZZ_QUICK ?= 10
 FUZZ_TARGETS := fuzz_nifti fuzz_nrrd fuzz_raw fuzz_vdb fuzz_scene fuzz_brdf_line
 FUZZ_QUICK_TARGETS := nifti nrrd raw vdb scene brdf_line
 SAN_TESTS := core_tests dvr_tests materials_tests overlap_tests render_tests shading_tests \
@@ -40,15 +40,17 @@ san-build: setup
 	  -DLOBE_SANITIZE=ON -DLOBE_FUZZ=ON -DLOBE_BUILD_BENCHMARKS=OFF -DLOBE_BUILD_TESTS=ON >/dev/null
 	@cmake --build $(SAN_DIR) -j $(JOBS) --target $(SAN_TESTS) $(FUZZ_TARGETS)
 
-# The unit tests sanitised, then the fuzz targets of FUZZ_QUICK_TARGETS for FUZZ_QUICK seconds.
+# The unit tests sanitised, then a fixed count of inputs (scripts/run_fuzzers.sh --runs, fixed
+# seed, the regression corpus in fuzz/corpus/ replayed first) through each of FUZZ_QUICK_TARGETS.
 sanitize: san-build
 	cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=0 \
 	  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:suppressions=$(CURDIR)/fuzz/ubsan.supp \
 	  ctest -L unit -E NOT_BUILT -j $(JOBS) --output-on-failure
-	FUZZ_SEED=1 scripts/run_fuzzers.sh $(SAN_DIR) $(FUZZ_QUICK) $(FUZZ_QUICK_TARGETS)
+	FUZZ_SEED=1 scripts/run_fuzzers.sh $(SAN_DIR) --runs $(FUZZ_QUICK_TARGETS)
 
-# Fuzzing for longer: every target for FUZZ_SECONDS (default 60; e.g. make fuzz FUZZ_SECONDS=3600)
-# from the seeds in fuzz/corpus/ and what earlier runs found.
+# Fuzzing by time, to find new inputs (not a test: what it reaches depends on the machine): every
+# target for FUZZ_SECONDS (default 60; e.g. make fuzz FUZZ_SECONDS=3600) from the seeds in
+# fuzz/corpus/ and what earlier runs found.
 fuzz: san-build
 	scripts/run_fuzzers.sh $(SAN_DIR) $(FUZZ_SECONDS)
 

@@ -1,17 +1,28 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer target of a LOBE_FUZZ build for SECONDS each, starting from the seeds in
-# fuzz/corpus/NAME and the corpus grown by earlier runs (BUILD/fuzz-corpus/NAME). An input that
-# crashes, trips a sanitizer, throws anything but lobe::Error or runs over 10 s is saved under
-# BUILD/fuzz-findings/ and makes the script fail.
-# FUZZ_SEED, when set, fixes libFuzzer's random seed (the short run in `make test` does, so that
-# the same commit fuzzes the same inputs).
-# Usage: scripts/run_fuzzers.sh BUILD_DIR SECONDS [TARGET...]
+# Runs every libFuzzer target of a LOBE_FUZZ build, in one of two modes:
+#   scripts/run_fuzzers.sh BUILD_DIR SECONDS [TARGET...]
+#     fuzzing for SECONDS per target from the seeds in fuzz/corpus/NAME and the corpus grown by
+#     earlier runs (BUILD/fuzz-corpus/NAME), which this run grows (`make fuzz`). What it reaches
+#     depends on the machine's speed and load, so it is not a test.
+#   scripts/run_fuzzers.sh BUILD_DIR --runs [TARGET...]
+#     the test (`make test`): a fixed number of inputs per target (kRuns below, libFuzzer
+#     -runs=N) with a fixed seed (FUZZ_SEED, default 1), from the seeds in fuzz/corpus/NAME only
+#     (the regression corpus, replayed first) into a throw-away corpus, so a commit tests the same
+#     inputs on any machine, however fast or busy. It prints each target's count and a digest of
+#     the inputs it kept (libFuzzer names them by content), which two runs can compare.
+# An input that crashes, trips a sanitizer, throws anything but lobe::Error or runs over the
+# per-input limit (-timeout: 10 s when fuzzing; 120 s in --runs mode, where it only guards
+# against a hang, since no finding may depend on speed) is saved under BUILD/fuzz-findings/ and
+# makes the script fail.
 set -euo pipefail
-build=$(cd "$1" && pwd) seconds=$2
-here=$(cd "$(dirname "$0")/.." && pwd)
+build=$(cd "$1" && pwd)
+mode=$2
 shift 2
 targets=("$@")
 [[ ${#targets[@]} -eq 0 ]] && targets=(nifti nrrd raw vdb scene brdf_line)
+# Inputs per target in --runs mode: about 10 s each on an idle 2-core machine of this project's
+# kind in the sanitised build (fuzz/README.md lists the rates).
+declare -A kRuns=([nifti]=15000 [nrrd]=20000 [raw]=15000 [vdb]=3000 [scene]=80000 [brdf_line]=400000)
 here=$(cd "$(dirname "$0")/.." && pwd)
 # allocator_may_return_null: an allocation beyond ASan's limit throws std::bad_alloc, as it does
 # without ASan, so the readers' answer to an absurd size field is what is tested; fuzz_vdb
@@ -21,10 +32,17 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:suppres
 mkdir -p "$build/fuzz-findings"
 status=0
 for t in "${targets[@]}"; do
-  corpus="$build/fuzz-corpus/$t"
-  mkdir -p "$corpus"
   work=$(mktemp -d)
-  echo "fuzz_$t: ${seconds} s"
+  if [[ $mode == --runs ]]; then
+    corpus="$work/corpus"
+    limits=(-runs="${kRuns[$t]}" -seed="${FUZZ_SEED:-1}" -timeout=120)
+    echo "fuzz_$t: ${kRuns[$t]} inputs, seed ${FUZZ_SEED:-1}"
+  else
+    corpus="$build/fuzz-corpus/$t"
+    limits=(-max_total_time="$mode" -timeout=10 ${FUZZ_SEED:+-seed=$FUZZ_SEED})
+    echo "fuzz_$t: ${mode} s"
+  fi
+  mkdir -p "$corpus" "$work/run"
   # Each run in a folder of its own: the NRRD target's data files are found beside the header.
   # OpenVDB leaks the node it was reading when a read fails inside a tree's topology (RootNode::
   # readTopology: `new ChildT` before the child's read, which throws at the end of the file), so
@@ -33,7 +51,7 @@ for t in "${targets[@]}"; do
   # buffer, is virtual memory only; the harness refuses beyond 16 GB, fuzz/fuzz_vdb.cpp.)
   rss=2560
   [[ $t == vdb ]] && rss=12288
-  if ! (cd "$work" && "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 ${FUZZ_SEED:+-seed=$FUZZ_SEED} \
+  if ! (cd "$work/run" && "$build/fuzz/fuzz_$t" "${limits[@]}" \
           -rss_limit_mb=$rss -max_len=65536 -print_final_stats=1 \
           -artifact_prefix="$build/fuzz-findings/$t-" "$corpus" "$here/fuzz/corpus/$t" \
           >"$build/fuzz-findings/$t.log" 2>&1); then
@@ -43,7 +61,11 @@ for t in "${targets[@]}"; do
   fi
   grep -E "^stat::number_of_executed_runs|^stat::new_units_added" "$build/fuzz-findings/$t.log" |
     tr '\n' ' ' || true
-  echo
+  if [[ $mode == --runs ]]; then
+    echo "corpus digest $(ls "$corpus" | sort | sha256sum | cut -c1-16)"
+  else
+    echo
+  fi
   rm -rf "$work"
 done
 exit $status
