@@ -342,7 +342,7 @@ PropertyReport measureProperties(const ModelSetting& setting, const PropertyOpti
 }
 
 PaperClaims paperClaims(const std::string& model) {
-    // koldenhof-2003.md, Table 1 "BRDF scores": # BRDF | Properties | Score.
+    // Koldenhof 2003, Table 1 "BRDF scores": # BRDF | Properties | Score.
     struct Row {
         const char* name;
         PaperClaims claims;

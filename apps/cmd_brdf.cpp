@@ -135,7 +135,7 @@ void printPerSetting(const std::vector<PropertyReport>& reports, bool csv) {
                     yesNo(r.anisotropic));
 }
 
-// Table 1 of the paper (koldenhof-2003.md), one row per model in the paper's order, measured
+// Table 1 of the paper (Koldenhof 2003), one row per model in the paper's order, measured
 // columns beside the paper's claims. Popular cannot be measured: the paper's value is carried.
 void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
     struct Row {

@@ -1,7 +1,7 @@
 // Parameter tables: every model declares its parameters once, as {name, default, min, max, doc},
 // and the registry, the CLI (`lobe brdf list`), scene files and the tests all read that table.
 // Any parameter may be given per band ("eta=0.16,0.37,1.59"); a single value applies to all three
-// bands (shared/docs/brdf-models.md, "Conventions").
+// bands (docs/models.md, "Conventions").
 #pragma once
 
 #include "core/spectrum.h"
@@ -23,7 +23,7 @@ struct ParamSpec {
 
 using ParamTable = std::vector<ParamSpec>;
 
-// Facts about a model that follow from its definition (shared/docs/brdf-models.md), declared on
+// Facts about a model that follow from its definition (docs/models.md), declared on
 // the model itself as `static constexpr BrdfFlags kFlags` (as pbrt-v4's BxDF::Flags()), so the
 // registry, analysis/ and the tests read them from one place instead of tables keyed by name.
 struct BrdfFlags {

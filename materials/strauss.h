@@ -7,7 +7,7 @@
 //   Cs = 1 + m·(1 − F(x(θi)))·(color − 1)
 //   f = ks · Cs · rj · cos^h α
 // P. S. Strauss, "A realistic lighting model for computer animators", IEEE CG&A 10(6), 1990,
-// pp. 56–64 (specular reflectivity and colour equations). Definition: shared/docs/brdf-models.md,
+// pp. 56–64 (specular reflectivity and colour equations). Definition: docs/models.md,
 // model 2. Parameters: ks ∈ [0, 1]; smoothness s ∈ [0, 0.99]; metalness m ∈ [0, 1];
 // transparency t ∈ [0, 1]; color ∈ [0, 1] (the surface colour per band; its specular highlight
 // takes this colour as metalness grows).

@@ -108,7 +108,7 @@ TEST(Properties, SweepCoversEveryRegisteredModelAndParses) {
     for (const ModelSetting& s : settings) EXPECT_NO_THROW(makeBrdf(s.model, s.settings)) << s.label;
 }
 
-// koldenhof-2003.md Table 1: the score is the number of properties listed.
+// Koldenhof 2003 Table 1: the score is the number of properties listed.
 TEST(Properties, PaperTableTranscriptionIsConsistent) {
     int found = 0;
     for (const char* name : {"phong", "strauss", "schlick_lewis", "ward", "cook_torrance",
