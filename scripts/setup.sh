@@ -12,6 +12,8 @@ packages=(
   fonts-dejavu-core libfreetype-dev
   openmpi-bin libopenmpi-dev
   clang libclang-rt-14-dev bc
+  # the VTK comparison (bench/peers/run.sh), run with /usr/bin/python3
+  python3-vtk9 xvfb xauth python3-numpy python3-scipy python3-nibabel python3-openimageio
 )
 
 missing=()
