@@ -359,7 +359,11 @@ PaperClaims paperClaims(const std::string& model) {
         {"ward", {true, 4, true, true, true, true, 4}},
     };
     for (const Row& r : rows)
-        if (model == r.name) return r.claims;
+        if (model == r.name) {
+            PaperClaims claims = r.claims;
+            claims.tableRow = int(&r - rows);
+            return claims;
+        }
     return {};
 }
 

@@ -119,6 +119,7 @@ struct PaperClaims {
     int number = 0;  // the paper's model number (1..9)
     bool plausible = false, fresnel = false, anisotropic = false, popular = false;
     int score = 0;
+    int tableRow = -1;  // the row in the paper's printed table (sorted by score), 0..8
 };
 PaperClaims paperClaims(const std::string& model);
 

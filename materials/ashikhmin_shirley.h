@@ -19,7 +19,7 @@ struct AshikhminShirley {
         "M. Ashikhmin, P. Shirley, An anisotropic Phong BRDF model, J. Graphics Tools 5(2), 2000";
     // Reciprocity: h, h·wi = h·wo, max(cos θi, cos θo) and F(h·wi) are symmetric (the max makes it
     // reciprocal; Ashikhmin–Shirley chose it for that).
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static AshikhminShirley fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

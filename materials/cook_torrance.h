@@ -22,7 +22,7 @@ struct CookTorrance {
         "R. L. Cook, K. E. Torrance, A reflectance model for computer graphics, ACM TOG 1(1), 1982";
     // Reciprocity: D(h), F(wi·h) with wi·h = wo·h, G = min(1, 2cosθh cosθo/(wo·h), 2cosθh
     // cosθi/(wo·h)) and 4 cos θi cos θo are symmetric.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static CookTorrance fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

@@ -31,7 +31,7 @@ struct HeTorrance {
         "for light reflection, SIGGRAPH 1991";
     // Reciprocity: K(θi) + K(θo), g ∝ (cos θi + cos θo)², D and G of H, S(θi)S(θo), F(wi·h) with
     // wi·h = wo·h are all symmetric. Costly: a series and a Newton solve per evaluation.
-    static constexpr BrdfFlags kFlags = {true, true};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::yes};
     static const ParamTable& paramTable();
     static HeTorrance fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

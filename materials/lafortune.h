@@ -18,7 +18,7 @@ struct Lafortune {
         "E. P. F. Lafortune et al., Non-linear approximation of reflectance functions, "
         "SIGGRAPH 1997";
     // Reciprocity: cx wi.x wo.x + cy wi.y wo.y + cz wi.z wo.z is symmetric.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static Lafortune fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

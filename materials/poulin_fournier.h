@@ -50,7 +50,7 @@ struct PoulinFournier {
     // Reciprocity: lit/seen tests, (N·wi)(N·wo), Phong's local lobe and D cos θi cos θo are
     // symmetric under wi ↔ wo (docs/models.md says so explicitly). Costly: an arc integral per
     // evaluation.
-    static constexpr BrdfFlags kFlags = {true, true};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::yes};
     static const ParamTable& paramTable();
     static PoulinFournier fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

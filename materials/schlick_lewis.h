@@ -19,7 +19,7 @@ struct SchlickLewis {
         "C. Schlick, A customizable reflectance model for everyday rendering, EGWR 1993; "
         "R. R. Lewis, Making shaders more physically plausible, EGWR 1993";
     // Reciprocity: a function of cos α = r(wi)·wo, symmetric in wi and wo.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static SchlickLewis fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

@@ -18,7 +18,7 @@ struct Ward {
     static constexpr const char* kCitation =
         "G. J. Ward, Measuring and modeling anisotropic reflection, SIGGRAPH 1992";
     // Reciprocity: H = wi + wo and sqrt(cos θi cos θo) are symmetric.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static Ward fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;
