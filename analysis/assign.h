@@ -1,5 +1,5 @@
 // `lobe assign`: choose each object's BRDF to maximise the scene's separation score
-// (analysis/separation.h) — the paper's "adaptive BRDF" (koldenhof-2003.md, future work).
+// (analysis/separation.h) — the paper's "adaptive BRDF" (Koldenhof 2003, future work).
 //
 // The shortcut that makes it fast is exact: a render with per-model passes (render/aov.h) gives,
 // for every object o and candidate BRDF m, the specular luminance S[o][m] the object would

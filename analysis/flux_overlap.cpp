@@ -1,4 +1,4 @@
-// Total flux overlap metric (shared/docs/flux-overlap.md; paper eqs. 1.21–1.25, Figure 5).
+// Total flux overlap metric (docs/flux-overlap.md; paper eqs. 1.21–1.25, Figure 5).
 #include "analysis/flux_overlap.h"
 
 #include "core/error.h"

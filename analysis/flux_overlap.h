@@ -1,5 +1,5 @@
 // Total flux overlap of two lattices of specular flux: the metric of the paper's "BRDF flux
-// overlap" section (eqs. 1.21–1.25, Figure 5) as fixed by shared/docs/flux-overlap.md, "The metric
+// overlap" section (eqs. 1.21–1.25, Figure 5) as fixed by docs/flux-overlap.md, "The metric
 // for one pair of lattices". High values mean lobes that stay apart (a good pair), low values much
 // overlap.
 #pragma once

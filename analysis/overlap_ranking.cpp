@@ -1,4 +1,4 @@
-// The flux-overlap standard test: lattices, pair scores, ranking (shared/docs/flux-overlap.md).
+// The flux-overlap standard test: lattices, pair scores, ranking (docs/flux-overlap.md).
 #include "analysis/overlap_ranking.h"
 
 #include "core/camera.h"
@@ -112,7 +112,7 @@ LatticeSet renderStandardLattices(const StandardTestOptions& options) {
                 const Frame frame =
                     Frame::fromNormalAndAxis(hit.n, Vec3(0, 1, 0), Vec3(1, 0, 0), 1e-3);
                 // f_s · I/d² · cos θi with I = 1 (eq. 1.20 for a point light); nothing where the
-                // viewer or the light is below the surface (brdf-models.md).
+                // viewer or the light is below the surface (docs/models.md).
                 forEachLightInFrame(lights, frame, hit.p, -ray.d,
                                     [&](const PointLight&, const Vec3& wi, const Vec3& wo,
                                         double weight) {

@@ -1,4 +1,4 @@
-// The flux-overlap standard test (shared/docs/flux-overlap.md, "The standard test"; the paper's
+// The flux-overlap standard test (docs/flux-overlap.md, "The standard test"; the paper's
 // "Flux overlap test", Figure 6): every model's specular flux lattices for three implicit
 // primitives and three bands, each rendered once and reused for all its pairs, then the metric over
 // all unordered pairs and a ranking.

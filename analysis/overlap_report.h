@@ -1,4 +1,4 @@
-// What `lobe overlap` writes (shared/docs/flux-overlap.md, "What the tool reports"): the ranked
+// What `lobe overlap` writes (docs/flux-overlap.md, "What the tool reports"): the ranked
 // table as CSV and Markdown, a heat map of the pair scores, and lobe images in the style of the
 // paper's Figures 8 and 9 (A in red, B in green, overlap yellow). Everything is built in memory
 // first and each file is written under a temporary name and renamed, so an error never leaves a

@@ -342,7 +342,7 @@ PropertyReport measureProperties(const ModelSetting& setting, const PropertyOpti
 }
 
 PaperClaims paperClaims(const std::string& model) {
-    // koldenhof-2003.md, Table 1 "BRDF scores": # BRDF | Properties | Score.
+    // Koldenhof 2003, Table 1 "BRDF scores": # BRDF | Properties | Score.
     struct Row {
         const char* name;
         PaperClaims claims;
@@ -359,7 +359,11 @@ PaperClaims paperClaims(const std::string& model) {
         {"ward", {true, 4, true, true, true, true, 4}},
     };
     for (const Row& r : rows)
-        if (model == r.name) return r.claims;
+        if (model == r.name) {
+            PaperClaims claims = r.claims;
+            claims.tableRow = int(&r - rows);
+            return claims;
+        }
     return {};
 }
 

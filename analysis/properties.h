@@ -1,5 +1,5 @@
-// Measured properties of the reflection models: the quantities of shared/docs/brdf-models.md,
-// "Properties to measure, not assume", which the paper's Table 1 (koldenhof-2003.md, "BRDF model
+// Measured properties of the reflection models: the quantities of docs/models.md,
+// "Properties to measure, not assume", which the paper's Table 1 (Koldenhof 2003, "BRDF model
 // selection") lists as claims. `lobe brdf props`, docs/brdf-properties.md and the generic tests
 // all use these functions, so the table and the tests measure the same thing.
 //
@@ -112,13 +112,14 @@ struct PropertyReport {
 // Measures one setting (parallel inside, via TBB). Throws lobe::Error for a bad setting.
 PropertyReport measureProperties(const ModelSetting& setting, const PropertyOptions& options);
 
-// The paper's Table 1 claims (koldenhof-2003.md, "BRDF model selection") for a registry name;
+// The paper's Table 1 claims (Koldenhof 2003, "BRDF model selection") for a registry name;
 // found = false for models the paper does not list (lambert).
 struct PaperClaims {
     bool found = false;
     int number = 0;  // the paper's model number (1..9)
     bool plausible = false, fresnel = false, anisotropic = false, popular = false;
     int score = 0;
+    int tableRow = -1;  // the row in the paper's printed table (sorted by score), 0..8
 };
 PaperClaims paperClaims(const std::string& model);
 

@@ -1,6 +1,6 @@
 // The separation score of a rendering: how far the highlights of each pair of objects stay
 // apart where both are seen — the paper's total-flux-overlap metric (eqs. 1.21–1.25 as fixed by
-// shared/docs/flux-overlap.md, analysis/flux_overlap.h) applied not to lobes on test primitives
+// docs/flux-overlap.md, analysis/flux_overlap.h) applied not to lobes on test primitives
 // but to the two objects' specular contributions in the rendered image (render/aov.h) — and, per
 // object, the share of the image where it is visible. docs/separation.md argues the choices:
 //  - lattices in Weber contrast: an object's specular luminance over the pixel's luminance,

@@ -135,7 +135,7 @@ void printPerSetting(const std::vector<PropertyReport>& reports, bool csv) {
                     yesNo(r.anisotropic));
 }
 
-// Table 1 of the paper (koldenhof-2003.md), one row per model in the paper's order, measured
+// Table 1 of the paper (Koldenhof 2003), one row per model in the paper's order, measured
 // columns beside the paper's claims. Popular cannot be measured: the paper's value is carried.
 void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
     struct Row {
@@ -144,18 +144,11 @@ void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
     };
     std::vector<Row> rows;
     for (const BrdfModelInfo& m : brdfModels()) rows.push_back({m.name, paperClaims(m.name)});
-    // The paper's table is sorted by score, ties in its printed order; models it does not list
-    // (lambert) go last.
-    const char* paperOrder[] = {"poulin_fournier", "phong", "lafortune", "strauss",
-                                "schlick_lewis", "cook_torrance", "he_torrance",
-                                "ashikhmin_shirley", "ward"};
-    const auto rank = [&](const std::string& name) {
-        for (int i = 0; i < 9; ++i)
-            if (name == paperOrder[i]) return i;
-        return 9;
-    };
+    // In the paper's printed order (sorted by score; PaperClaims::tableRow); models it does not
+    // list (lambert) go last.
+    const auto rank = [](const Row& r) { return r.claims.found ? r.claims.tableRow : 1 << 20; };
     std::stable_sort(rows.begin(), rows.end(),
-                     [&](const Row& a, const Row& b) { return rank(a.model) < rank(b.model); });
+                     [&](const Row& a, const Row& b) { return rank(a) < rank(b); });
 
     if (csv)
         std::printf("number,model,plausible,fresnel,anisotropic,popular_paper,score_measured,"

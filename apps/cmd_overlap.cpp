@@ -1,5 +1,5 @@
 // `lobe overlap`: the total flux overlap test of the paper's "BRDF flux overlap" section, as fixed
-// by shared/docs/flux-overlap.md. Renders every specular model's lattices once (3 implicit
+// by docs/flux-overlap.md. Renders every specular model's lattices once (3 implicit
 // primitives × 3 bands), scores all unordered pairs, and writes overlap.csv, overlap.md,
 // overlap-heatmap.png and lobes/<a>_vs_<b>.png into --out. `--study` instead runs the convergence
 // study (lattice size × samples per pixel against the largest of both) and writes study.md.

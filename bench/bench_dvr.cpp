@@ -3,9 +3,9 @@
 // (volume/pre_integration.h) up to 4 voxels, against a 0.02-voxel point-sampled reference image;
 // samples per second; peak memory.
 //
-// Scene: the SPM12 FieldMap grey-matter prior (shared/data/spm12_tissue_priors/
+// Scene: the SPM12 FieldMap grey-matter prior (assets/brain/
 // grey_icbm151_smooth8mm_FieldMap.nii.gz: 91×109×91, 2 mm, already 8 mm smoothed — the closest
-// analogue of the paper's density maps, shared/docs/paper-scene.md), the paper's four density-map
+// analogue of the paper's density maps, docs/paper-scene.md), the paper's four density-map
 // ramps in one transfer function (TransferFunction::densityMaps), trilinear reconstruction and
 // central-difference normals (the paper's choice for the density maps), Phong + Lambert kd 0.2,
 // four point lights around the camera, 128² pixels, one jittered ray per pixel (the same jitter
@@ -56,7 +56,7 @@ constexpr int kSize = 128;
 constexpr int kThreads = 2;
 constexpr double kReferenceStep = 0.02;
 const char* kDataPath =
-    LOBE_SHARED_DATA "/spm12_tissue_priors/grey_icbm151_smooth8mm_FieldMap.nii.gz";
+    LOBE_SOURCE_DIR "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz";
 
 struct Scene {
     openvdb::FloatGrid::Ptr grid;

@@ -9,7 +9,7 @@
 // Ashikhmin-Shirley + Lambert 0.2) and the density maps (SPM12 grey FieldMap, the four
 // density_maps ramps, trilinear + central differences, He-Torrance + Lambert 0.2), both placed by
 // scale (0.87, −0.87, −0.87) + (102, 127.6, 85) in the CThead world; the camera and four lights of
-// shared/docs/paper-scene.md "A placement that works". Backdrop off, so the error is the volumes'.
+// docs/paper-scene.md "A placement that works". Backdrop off, so the error is the volumes'.
 // One jittered sample per pixel with the same seed in every image: the pixel positions and
 // lattice jitters are the same, so the differences are the step's, not noise.
 //

@@ -1,4 +1,4 @@
-// Benchmark of the flux-overlap standard test (shared/docs/flux-overlap.md): the whole default
+// Benchmark of the flux-overlap standard test (docs/flux-overlap.md): the whole default
 // test (256², 4×4 samples, 3 primitives, 3 bands, every specular model, all pairs) on 2 threads,
 // the lattice render of each model alone (which model dominates), and the metric alone.
 //

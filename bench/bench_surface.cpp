@@ -3,8 +3,8 @@
 // error against the exact method, and image error against a 64-spp exact reference at 1/4/16 spp;
 // then the same on the CThead upsampled 2× per axis (trilinear), to show how memory grows.
 //
-// Scene: shared/data/cthead (256×256×113 int16, spacing 1,1,2) through the volume loader,
-// value/3272, iso 0.5 (the paper's skull, shared/docs/paper-scene.md); the camera of "A placement
+// Scene: assets/cthead (256×256×113 int16, spacing 1,1,2) through the volume loader,
+// value/3272, iso 0.5 (the paper's skull, docs/paper-scene.md); the camera of "A placement
 // that works": 560 units from the skull's centre (110, 131, 116) at 45° azimuth from
 // straight-front (front = −y), up = −z, 30° vertical field of view; SIZE² pixels (default 256),
 // 2 threads.
@@ -60,7 +60,7 @@ namespace {
 constexpr int kThreads = 2;
 constexpr int kReferenceStrata = 8;  // 64 spp
 constexpr double kIso = 0.5;
-const char* kDataPath = LOBE_SHARED_DATA "/cthead/cthead.nhdr";
+const char* kDataPath = LOBE_SOURCE_DIR "/assets/cthead/cthead.nhdr";
 int gSize = 256;
 
 double seconds(std::chrono::steady_clock::time_point t0) {

@@ -1,4 +1,4 @@
-// The paper's Table 7 regenerated (Koldenhof 2003, "Timings"; shared/docs/paper-scene.md): render
+// The paper's Table 7 regenerated (Koldenhof 2003, "Timings"; docs/paper-scene.md): render
 // time of the CThead skull alone at 512×512, one specular BRDF at a time, beside the paper's
 // minutes on a 666 MHz Pentium III, and the share of the time spent evaluating the BRDF.
 //

@@ -1,4 +1,4 @@
-# Every dependency is a Debian 12 package (see scripts/setup.sh); the traps are in ../shared/docs/stack.md.
+# Every dependency is a Debian 12 package (see scripts/setup.sh); the traps are in docs/dependencies.md.
 
 # oneTBB must be found before OpenVDB, whose FindOpenVDB would otherwise look for the old TBB.
 find_package(TBB 2021 CONFIG REQUIRED COMPONENTS tbb)

@@ -1,5 +1,5 @@
 // Orthonormal shading frame: x = tangent t (anisotropy direction), y = bitangent b = n × t,
-// z = normal n, as fixed in shared/docs/brdf-models.md ("Conventions").
+// z = normal n, as fixed in docs/models.md ("Conventions").
 #pragma once
 
 #include "core/math.h"
@@ -16,7 +16,7 @@ struct Frame {
 
     // Frame around unit normal n whose tangent is the projection of `axis` onto the tangent plane.
     // Where that projection degenerates (|axis × n| < minSine) `fallbackAxis` is projected instead;
-    // this is the tangent field of shared/docs/flux-overlap.md and of the renderer's anisotropic
+    // this is the tangent field of docs/flux-overlap.md and of the renderer's anisotropic
     // objects.
     static Frame fromNormalAndAxis(const Vec3& n, const Vec3& axis, const Vec3& fallbackAxis,
                                    double minSine = 1e-3);

@@ -7,7 +7,7 @@
 // String attributes go into an EXR's header and a PNG's text chunks (iTXt/tEXt). Files are written under a
 // temporary name in the same folder and renamed, so a failed write never leaves a partial file.
 // This lives in its own library (lobe_image_io) because OpenImageIO costs every process that
-// links it ~0.3 s of start-up (shared/docs/stack.md, pitfall 3).
+// links it ~0.3 s of start-up (docs/dependencies.md, pitfall 3).
 #pragma once
 
 #include "core/film.h"

@@ -2,7 +2,7 @@
 // And the one light loop of Lobe: every place that lights a point — surface hits and volume
 // samples (render/shading.h), the backdrop, the BRDF gallery, the flux-overlap lattices — walks
 // the lights through forEachLight or forEachLightInFrame. No shadows: the paper's renderings
-// have none (shared/docs/paper-scene.md).
+// have none (docs/paper-scene.md).
 #pragma once
 
 #include "core/frame.h"
@@ -32,11 +32,11 @@ inline void forEachLight(const std::vector<PointLight>& lights, const Vec3& posi
 }
 
 // The same loop seen from a surface point with shading frame `frame` (n = frame.n): nothing when
-// the viewer is not above the surface (wo.z ≤ 0, where f_s = 0 by shared/docs/brdf-models.md);
+// the viewer is not above the surface (wo.z ≤ 0, where f_s = 0 by docs/models.md);
 // otherwise fn(light, wi, wo, cos θi / d²) for every light above it, wi and wo the unit directions
 // to the light and to the viewer in the local frame. cos θi / d² is the irradiance per unit
 // intensity (eq. 1.20 of the paper for a point light), so the reflected radiance of a BRDF f is
-// Σ f(wi, wo) · I · cos θi / d² (brdf-models.md, "Conventions").
+// Σ f(wi, wo) · I · cos θi / d² (docs/models.md, "Conventions").
 template <class Fn>
 inline void forEachLightInFrame(const std::vector<PointLight>& lights, const Frame& frame,
                                 const Vec3& position, const Vec3& toViewer, Fn&& fn) {

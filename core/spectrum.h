@@ -1,5 +1,5 @@
 // The three wavelength bands every BRDF is evaluated at: 700.0, 546.1 and 435.8 nm, the CIE 1931
-// RGB primaries (shared/docs/brdf-models.md, "Conventions"). Because the bands *are* the CIE RGB
+// RGB primaries (docs/models.md, "Conventions"). Because the bands *are* the CIE RGB
 // primaries, a band triple is a CIE RGB colour and converts to display colour through
 // CIE RGB → XYZ → linear sRGB.
 #pragma once

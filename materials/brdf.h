@@ -1,5 +1,6 @@
 // The closed set of reflection models as one std::variant: dispatch without virtual calls, and a
-// model added in one place (its file pair, one line here, one in registry.cpp, one in CMake).
+// model added in one place (its file pair, one line here, one in registry.cpp, one in CMake;
+// docs/architecture.md, "Where to add").
 #pragma once
 
 #include "materials/ashikhmin_shirley.h"

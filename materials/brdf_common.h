@@ -1,4 +1,4 @@
-// Shared conventions of every BRDF (shared/docs/brdf-models.md, "Conventions"):
+// Shared conventions of every BRDF (docs/models.md, "Conventions"):
 // local frame x = tangent t, y = bitangent b, z = normal n; wi towards the light, wo towards the
 // viewer, both unit and leaving the surface; every model returns the specular value f_s in sr⁻¹
 // *without* the cosine, and 0 whenever either direction is at or below the horizon.

@@ -5,7 +5,7 @@
 //   G = min(1, 2 cosθh cosθo/(wo·h), 2 cosθh cosθi/(wo·h))
 //   f = ks · F(wi·h) · D · G / (4 cos θi cos θo)
 // R. L. Cook, K. E. Torrance, "A reflectance model for computer graphics", ACM TOG 1(1), 1982,
-// eqs. (3), (5), (7), (8). Definition: shared/docs/brdf-models.md, model 5.
+// eqs. (3), (5), (7), (8). Definition: docs/models.md, model 5.
 // Parameters: ks ∈ [0, 1]; m ∈ [1e-3, 1] RMS facet slope; eta ∈ [0.01, 10] and kappa ∈ [0, 20],
 // the real and imaginary parts of the relative index of refraction.
 #pragma once
@@ -22,7 +22,7 @@ struct CookTorrance {
         "R. L. Cook, K. E. Torrance, A reflectance model for computer graphics, ACM TOG 1(1), 1982";
     // Reciprocity: D(h), F(wi·h) with wi·h = wo·h, G = min(1, 2cosθh cosθo/(wo·h), 2cosθh
     // cosθi/(wo·h)) and 4 cos θi cos θo are symmetric.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static CookTorrance fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

@@ -35,7 +35,7 @@ HeTorrance::DirectionTerms HeTorrance::directionTerms(double cosTheta, double si
     // K(θ) = tan θ · erfc(c) and S(θ) = [1 − ½ erfc(c)] / [Λ(c) + 1] share c = τ cot θ / (2σ0),
     // so one erfc serves both.
     const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
-    if (!(sinTheta > 0.0)) return {0.0, 1.0};  // K(0) = 0, S(0) = 1 (brdf-models.md model 7)
+    if (!(sinTheta > 0.0)) return {0.0, 1.0};  // K(0) = 0, S(0) = 1 (docs/models.md model 7)
     const double c = tau * cosTheta / (2.0 * sigma0 * sinTheta);
     if (!(c > 0.0)) return {0.0, 0.0};
     const double erfcC = std::erfc(c);

@@ -5,7 +5,7 @@
 // geometric factor G, shadowing S (Λ in the form of the paper's errata) and the effective
 // roughness σ(z0). The paper's text is not in this repository, so its equation numbers are not
 // quoted; the formulas below are the normative transcription.
-// Definition: shared/docs/brdf-models.md, model 7, in units of the wavelength λ (k = 2π):
+// Definition: docs/models.md, model 7, in units of the wavelength λ (k = 2π):
 //   K(θ) = tan θ · erfc(τ / (2σ0 tan θ))
 //   z0 solves sqrt(π/2)·z0 = (σ0/4)(K(θi) + K(θo))·exp(−z0²/(2σ0²)) (by Newton)
 //   σ = σ0 / sqrt(1 + z0²/σ0²);  g = [k σ (cos θi + cos θo)]²
@@ -33,7 +33,7 @@ struct HeTorrance {
         "for light reflection, SIGGRAPH 1991";
     // Reciprocity: K(θi) + K(θo), g ∝ (cos θi + cos θo)², D and G of H, S(θi)S(θo), F(wi·h) with
     // wi·h = wo·h are all symmetric. Costly: a series and a Newton solve per evaluation.
-    static constexpr BrdfFlags kFlags = {true, true};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::yes};
     static const ParamTable& paramTable();
     static HeTorrance fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

@@ -12,7 +12,7 @@ struct Lambert {
     static constexpr const char* kTitle = "Lambert";
     static constexpr const char* kCitation = "J. H. Lambert, Photometria, 1760";
     // Reciprocity: a constant.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static Lambert fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

@@ -1,5 +1,5 @@
 // What an object reflects with: its own specular BRDF plus a Lambertian term kd,
-//   f = kd/π + f_s(wi, wo)      (shared/docs/brdf-models.md, "Conventions"; the paper's eq. 1.10).
+//   f = kd/π + f_s(wi, wo)      (docs/models.md, "Conventions"; the paper's eq. 1.10).
 // Lighting a point with it is render/shading.h's job.
 #pragma once
 

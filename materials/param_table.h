@@ -1,7 +1,7 @@
 // Parameter tables: every model declares its parameters once, as {name, default, min, max, doc},
 // and the registry, the CLI (`lobe brdf list`), scene files and the tests all read that table.
 // Any parameter may be given per band ("eta=0.16,0.37,1.59"); a single value applies to all three
-// bands (shared/docs/brdf-models.md, "Conventions").
+// bands (docs/models.md, "Conventions").
 #pragma once
 
 #include "core/spectrum.h"
@@ -23,15 +23,23 @@ struct ParamSpec {
 
 using ParamTable = std::vector<ParamSpec>;
 
-// Facts about a model that follow from its definition (shared/docs/brdf-models.md), declared on
+// Facts about a model that follow from its definition (docs/models.md), declared on
 // the model itself as `static constexpr BrdfFlags kFlags` (as pbrt-v4's BxDF::Flags()), so the
 // registry, analysis/ and the tests read them from one place instead of tables keyed by name.
+// Each fact is named where it is declared, e.g. `kFlags = {Reciprocal::yes, Costly::no}`: the
+// arguments cannot be swapped or left out.
+enum class Reciprocal : bool { no = false, yes = true };
+enum class Costly : bool { no = false, yes = true };
 struct BrdfFlags {
     // f(wi, wo) = f(wo, wi) by construction (the derivation sits beside kFlags in each header).
     bool reciprocal = true;
     // An evaluation integrates or sums a series (µs, not ns): sampling code takes fewer samples
     // (analysis/properties.h, sampleScale).
     bool costly = false;
+
+    constexpr BrdfFlags() = default;
+    constexpr BrdfFlags(Reciprocal r, Costly c)
+        : reciprocal(r == Reciprocal::yes), costly(c == Costly::yes) {}
 };
 
 // Validated values of one model's parameters: every parameter of its table, defaults filled in.

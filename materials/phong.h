@@ -1,7 +1,7 @@
 // Phong specular term, used directly as f_s (never divided by cos θi):
 //   f = ks · cos^exponent α,  cos α = max(0, r(wi)·wo).
 // B. T. Phong, "Illumination for computer generated pictures", CACM 18(6):311–317, 1975, eq. (1)
-// (specular part only). Definition: shared/docs/brdf-models.md, model 1.
+// (specular part only). Definition: docs/models.md, model 1.
 // Parameters: ks ∈ [0, 1] specular coefficient; exponent ∈ [0, 1e6] shininess.
 // Reciprocal (cos α is symmetric in wi and wo); whether it conserves energy depends on ks and the
 // exponent, and is measured by `lobe brdf props`, not assumed.
@@ -19,7 +19,7 @@ struct Phong {
         "B. T. Phong, Illumination for computer generated pictures, CACM 18(6), 1975";
     // Reciprocity: a function of cos α = r(wi)·wo = −wi.x wo.x − wi.y wo.y + wi.z wo.z, symmetric in
     // wi and wo.
-    static constexpr BrdfFlags kFlags = {true, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static Phong fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

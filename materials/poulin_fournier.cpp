@@ -32,7 +32,7 @@
 namespace lobe {
 namespace {
 
-// Relative accuracy of f asked by brdf-models.md (model 6); the arc integration is asked for half
+// Relative accuracy of f asked by docs/models.md (model 6); the arc integration is asked for half
 // of it as a margin.
 constexpr double kRelativeAccuracy = 1e-6;
 
@@ -139,7 +139,7 @@ double powWhole(double x, unsigned n) {
 // wi.z = Li cos ψi (likewise wo), N·wi = Li cos(φ − ψi), and the product-to-sum identity gives
 //   (N·wi)(N·wo) = ½[P cos θ + q],   P = Li·Lo,  q = wi.y·wo.y + wi.z·wo.z = P cos(ψi − ψo),
 //   rN(wi)·wo = 2(N·wi)(N·wo) − wi·wo = P cos θ − m,   m = wi.x·wo.x
-// (brdf-models.md model 6: Phong's term with normal N). So the integrand is
+// (docs/models.md model 6: Phong's term with normal N). So the integrand is
 //   g(θ) = max(0, P cos θ − m)^n · ½ max(0, P cos θ + q),   ∫ (…) dφ = ½ ∫ g dθ,
 // one cosine per evaluation, a lobe peaked at θ = 0 (mod 2π) with value (P − m)^n, and — all of
 // P, q, m, θ being symmetric in wi and wo — exactly reciprocal. On the lit-and-seen interval

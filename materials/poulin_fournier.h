@@ -1,7 +1,7 @@
 // Poulin–Fournier: the macroscopic specular BRDF of a surface made of parallel cylinders, specular
 // part only. P. Poulin, A. Fournier, "A model for anisotropic reflection", SIGGRAPH 1990, §3–4
 // (cylinder cross-section, self-shadowing and masking, integration over the visible-and-lit
-// profile with Simpson's rule). Definition: shared/docs/brdf-models.md, model 6, which fixes:
+// profile with Simpson's rule). Definition: docs/models.md, model 6, which fixes:
 //  * the cross-section in the (b, n) plane: cylinders of radius 1 along t, axes at height 0, centre
 //    spacing D = 2 + gap, a floor at height −floor_depth (floor_depth < 1: the cylinders are partly
 //    buried and the buried arc does not exist);
@@ -48,9 +48,9 @@ struct PoulinFournier {
     static constexpr const char* kCitation =
         "P. Poulin, A. Fournier, A model for anisotropic reflection, SIGGRAPH 1990";
     // Reciprocity: lit/seen tests, (N·wi)(N·wo), Phong's local lobe and D cos θi cos θo are
-    // symmetric under wi ↔ wo (brdf-models.md says so explicitly). Costly: an arc integral per
+    // symmetric under wi ↔ wo (docs/models.md says so explicitly). Costly: an arc integral per
     // evaluation.
-    static constexpr BrdfFlags kFlags = {true, true};
+    static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::yes};
     static const ParamTable& paramTable();
     static PoulinFournier fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

@@ -7,7 +7,7 @@
 //   Cs = 1 + m·(1 − F(x(θi)))·(color − 1)
 //   f = ks · Cs · rj · cos^h α
 // P. S. Strauss, "A realistic lighting model for computer animators", IEEE CG&A 10(6), 1990,
-// pp. 56–64 (specular reflectivity and colour equations). Definition: shared/docs/brdf-models.md,
+// pp. 56–64 (specular reflectivity and colour equations). Definition: docs/models.md,
 // model 2. Parameters: ks ∈ [0, 1]; smoothness s ∈ [0, 0.99]; metalness m ∈ [0, 1];
 // transparency t ∈ [0, 1]; color ∈ [0, 1] (the surface colour per band; its specular highlight
 // takes this colour as metalness grows).
@@ -25,7 +25,7 @@ struct Strauss {
         "P. S. Strauss, A realistic lighting model for computer animators, IEEE CG&A 10(6), 1990";
     // Reciprocity: j = F(x(θi))·G(x(θi))·G(x(θo)) and Cs = 1 + m(1 − F(x(θi)))(color − 1) depend on
     // θi through F but not on θo: swapping wi and wo changes rj (when rj < 1), so NOT reciprocal.
-    static constexpr BrdfFlags kFlags = {false, false};
+    static constexpr BrdfFlags kFlags = {Reciprocal::no, Costly::no};
     static const ParamTable& paramTable();
     static Strauss fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;

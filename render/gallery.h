@@ -1,5 +1,5 @@
 // The BRDF gallery: the nine specular models side by side on spheres, each with a Lambertian
-// kd = 0.2, lit by the three point lights of the flux-overlap test (shared/docs/flux-overlap.md),
+// kd = 0.2, lit by the three point lights of the flux-overlap test (docs/flux-overlap.md),
 // labelled — the paper's Figure 3 on simple shapes.
 #pragma once
 

@@ -1,7 +1,7 @@
 // Shading: the one place that lights a surface hit or a volume sample with its object's material
 // (materials/material.h) under the scene's point lights, through the one light loop
 // (core/light.h):
-//   L = Σ_lights (kd/π + f_s(wi, wo)) · I/d² · cos θi      (shared/docs/brdf-models.md,
+//   L = Σ_lights (kd/π + f_s(wi, wo)) · I/d² · cos θi      (docs/models.md,
 // "Conventions"; the paper's eq. 1.10 with point lights, no shadows).
 #pragma once
 

@@ -3,7 +3,7 @@
 close-up of each into assets/scenes/paper/ and assets/scenes/paper-zoom/, and the skull alone with
 each of the nine specular BRDFs (the scene of the paper's Table 7) into assets/scenes/skull/.
 
-The mapping of the paper's scene onto our data is shared/docs/paper-scene.md ("A placement that
+The mapping of the paper's scene onto our data is docs/paper-scene.md ("A placement that
 works"): world = CThead voxel index x spacing (1, 1, 2); MNI millimetres map into it by
 diag(0.87, -0.87, -0.87) . mni + (102, 127.6, 85). The camera sits 560 units from the skull's
 centre (110, 131, 116) at 45 degrees azimuth from straight-front (front = -y), up = -z, with a 30

@@ -8,10 +8,12 @@ packages=(
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev
   libopenimageio-dev openimageio-tools libtbb-dev libimath-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
-  libgdcm-dev python3-pydicom
+  libgdcm-dev python3-pydicom mricron-data
   fonts-dejavu-core libfreetype-dev
   openmpi-bin libopenmpi-dev
   clang libclang-rt-14-dev bc
+  # the VTK comparison (bench/peers/run.sh), run with /usr/bin/python3
+  python3-vtk9 xvfb xauth python3-numpy python3-scipy python3-nibabel python3-openimageio
 )
 
 missing=()

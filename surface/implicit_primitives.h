@@ -1,4 +1,4 @@
-// Implicit primitives of the flux-overlap standard test (shared/docs/flux-overlap.md, "The standard
+// Implicit primitives of the flux-overlap standard test (docs/flux-overlap.md, "The standard
 // test"; the paper's "BRDF flux overlap" section: "all geometric primitives were defined as
 // implicit functions"). Each is a polynomial F(q) = 0 in object coordinates q, placed in the world
 // by a rotation about the origin; F < 0 inside, so the normal ∇F/|∇F| points outwards.
@@ -33,7 +33,7 @@ struct ImplicitHit {
 
 class ImplicitPrimitive {
 public:
-    // The three primitives of the standard test (shared/docs/flux-overlap.md):
+    // The three primitives of the standard test (docs/flux-overlap.md):
     // sphere x²+y²+z² = 1;
     // torus with major radius 0.7 and minor 0.3 around the object z axis (facing the camera at
     //   +z), tilted 30° about the world x axis so that its upper rim comes towards the camera;

@@ -2,7 +2,7 @@
 //
 // Why: an OpenVDB ValueAccessor walks (or checks its cached path through) the tree for every
 // voxel it reads. Trilinear reconstruction reads 8 voxels per sample and central differences 48
-// more per shaded sample; on the CThead (T2 of ../shared/peers) the accessor's reads were ~22 % of
+// more per shaded sample; on the CThead (task t2 of bench/peers) the accessor's reads were ~22 % of
 // the render and the marcher's own bookkeeping ~32 %. Read from a flat array instead, a voxel is
 // one load at base + x·sx + y·sy + z. The values are those getValue would return (the copy is
 // OpenVDB's own tools::copyToDense, in parallel), so every reconstruction gives the same bits.

@@ -86,14 +86,14 @@ public:
     static TransferFunction densityMaps(double rampWidth = 0.02);
     // Cortex: transparent below boundary − width/2, then opacity 0.001 rising linearly to 0.2 at
     // boundary + width/2 and staying there (the paper's "opacity of the cortex ranged from 0.001
-    // to 0.2"; the boundary ≈ 0.47 of the T1 maximum, shared/docs/paper-scene.md). The paper
+    // to 0.2"; the boundary ≈ 0.47 of the T1 maximum, docs/paper-scene.md). The paper
     // gives no cortex colour; the default is a light warm grey, linear sRGB (0.8, 0.7, 0.65).
     static TransferFunction cortex(double boundary = 0.47, double width = 0.1,
                                    const Spectrum& colour = linearSrgbToBands(0.8, 0.7, 0.65));
     // Cortex shell: the translucent shell of the paper scenes (scripts/make_paper_scenes.py,
     // CORTEX_TF), where `cortex` above is opaque from the boundary up and hides what is inside.
     // A tent around the T1 boundary between CSF (≈ 0.30 of the maximum) and grey matter (≈ 0.65),
-    // 0.47 (shared/docs/paper-scene.md): transparent below boundary − width/2, a step to 0.001 there,
+    // 0.47 (docs/paper-scene.md): transparent below boundary − width/2, a step to 0.001 there,
     // rising linearly to `opacity` at the boundary, falling back to 0.001 at boundary + width/2 and
     // a step to 0 above, so both the CSF and the tissue inside stay clear and what lies inside the
     // brain (the density maps) shows through. The paper's range "0.001 to 0.2" gives the edge and

@@ -1,4 +1,4 @@
-// The total flux overlap metric (shared/docs/flux-overlap.md) on small hand-made lattices that
+// The total flux overlap metric (docs/flux-overlap.md) on small hand-made lattices that
 // exercise every branch: A only, B only, both with Φa > Φb and Φb > Φa, both equal, below the
 // threshold, and an empty area.
 #include "analysis/flux_overlap.h"

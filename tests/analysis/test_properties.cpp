@@ -108,7 +108,7 @@ TEST(Properties, SweepCoversEveryRegisteredModelAndParses) {
     for (const ModelSetting& s : settings) EXPECT_NO_THROW(makeBrdf(s.model, s.settings)) << s.label;
 }
 
-// koldenhof-2003.md Table 1: the score is the number of properties listed.
+// Koldenhof 2003 Table 1: the score is the number of properties listed.
 TEST(Properties, PaperTableTranscriptionIsConsistent) {
     int found = 0;
     for (const char* name : {"phong", "strauss", "schlick_lewis", "ward", "cook_torrance",
@@ -124,6 +124,21 @@ TEST(Properties, PaperTableTranscriptionIsConsistent) {
     EXPECT_FALSE(paperClaims("lambert").found);
     EXPECT_EQ(paperClaims("ward").score, 4);
     EXPECT_EQ(paperClaims("poulin_fournier").score, 0);
+}
+
+// The table's printed order (by score, ties as printed), which `lobe brdf props` follows: rows
+// 0..8 once each, scores never falling down the table.
+TEST(Properties, PaperTableRowsAreThePrintedOrder) {
+    const char* printed[] = {"poulin_fournier", "phong", "lafortune", "strauss", "schlick_lewis",
+                             "cook_torrance", "he_torrance", "ashikhmin_shirley", "ward"};
+    int previousScore = -1;
+    for (int row = 0; row < 9; ++row) {
+        const PaperClaims c = paperClaims(printed[row]);
+        EXPECT_EQ(c.tableRow, row) << printed[row];
+        EXPECT_GE(c.score, previousScore) << printed[row];
+        previousScore = c.score;
+    }
+    EXPECT_EQ(paperClaims("lambert").tableRow, -1);
 }
 
 }  // namespace

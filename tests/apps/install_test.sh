@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the build into a fresh prefix and runs the installed `lobe demo` from an unrelated
 # working directory: the binary must find its data relative to itself (apps/data_dir.h) and carry
-# no build-tree path. Usage: install_test.sh CMAKE BUILD_DIR WORK_DIR
+# no build-tree path. Then the README's paper scene from the installed assets (the scenes' relative
+# data paths must hold there), and the user guide installed beside it (README.md, docs/).
+# Usage: install_test.sh CMAKE BUILD_DIR WORK_DIR
 set -euo pipefail
 cmake_bin=$1 build=$2 work=$3
 rm -rf "$work"
@@ -17,5 +19,11 @@ cd "$work/elsewhere"
 "$work/prefix/bin/lobe" demo --size 16 --spp 1 --quiet --out out
 for f in rendering-01.png rendering-01.exr gallery.png gallery.exr; do
   test -s "out/$f" || { echo "missing out/$f" >&2; exit 1; }
+done
+"$work/prefix/bin/lobe" render "$work/prefix/share/lobe/assets/scenes/paper/rendering-01.json" \
+  --width 16 --spp 1 --no-contact-sheets --out paper >/dev/null 2>&1
+test -s paper/rendering-01.png || { echo "the installed paper scene did not render" >&2; exit 1; }
+for f in README.md docs/models.md docs/architecture.md docs/scene-format.md docs/images/gallery.jpg; do
+  test -s "$work/prefix/share/doc/lobe/$f" || { echo "not installed: share/doc/lobe/$f" >&2; exit 1; }
 done
 echo "install test: ok"

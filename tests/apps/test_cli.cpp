@@ -43,7 +43,7 @@ CliRun lobe(const std::string& args, const std::string& input = "") {
 
 // ---- lobe brdf ------------------------------------------------------------------------------
 
-// Hand values: Ward (brdf-models.md model 4) with wo the mirror of wi has H = wi + wo along n, so
+// Hand values: Ward (docs/models.md model 4) with wo the mirror of wi has H = wi + wo along n, so
 // the exponential is exp(0) = 1 and f = rho_s / (4π αx αy sqrt(cos θi cos θo)). At the defaults
 // αx = 0.05, αy = 0.3 and normal incidence: f = rho_s / (4π·0.015) = 5.305164769729845·rho_s,
 // i.e. 0.2652582385, 0.530516477, 1.061032954 (%.10g) for rho_s = 0.05, 0.1, 0.2; at θi = θo = 60°

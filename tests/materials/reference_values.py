@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reference values for tests/materials/test_brdf_values.cpp, computed independently of the C++
-code: every formula below is typed again from shared/docs/brdf-models.md (the normative
+code: every formula below is typed again from docs/models.md (the normative
 definitions), using only the Python standard library (math, cmath). The C++ test compares its
 models with the printed values to 1e-9 relative.
 
@@ -47,7 +47,7 @@ def half(wi, wo):
 
 
 def fresnel_exact(eta, kappa, c):
-    # brdf-models.md: F = 1/2 |g-c|^2/|g+c|^2 (1 + |c(g+c)-1|^2/|c(g-c)+1|^2), g^2 = n^2 + c^2 - 1
+    # docs/models.md: F = 1/2 |g-c|^2/|g+c|^2 (1 + |c(g+c)-1|^2/|c(g-c)+1|^2), g^2 = n^2 + c^2 - 1
     n = complex(eta, kappa)
     g = cmath.sqrt(n * n + c * c - 1)
     if g.real < 0:

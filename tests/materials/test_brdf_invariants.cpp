@@ -2,7 +2,7 @@
 // registry is tested with no edit here; only the reciprocity table below needs a line with its
 // derivation, and the suite says so if it is missing):
 //  * millions of random direction pairs over the whole sphere (both hemispheres): finite, ≥ 0,
-//    and exactly 0 when either direction is at or below the horizon (brdf-models.md, Conventions);
+//    and exactly 0 when either direction is at or below the horizon (docs/models.md, Conventions);
 //  * grazing pairs with cos θ down to 1e-7, exactly 0 and just below 0; wi = wo; mirror pairs
 //    wo = r(wi); wi = −wo; wi = wo = n; directions in the tangent plane;
 //  * the same (fewer pairs) at every setting of the documented property sweep (extreme
@@ -49,7 +49,7 @@ Vec3 withCos(double cosTheta, double phi) {
     return Vec3(s * std::cos(phi), s * std::sin(phi), cosTheta);
 }
 
-// The convention checks of brdf-models.md for one pair; returns false (with a message) on failure.
+// The convention checks of docs/models.md for one pair; returns false (with a message) on failure.
 ::testing::AssertionResult validValue(const Brdf& brdf, const Vec3& wi, const Vec3& wo) {
     const Spectrum f = evalBrdf(brdf, wi, wo);
     for (int b = 0; b < kBandCount; ++b) {
@@ -159,7 +159,7 @@ TEST_P(Invariants, SweepSettingsStayFiniteAndNonNegative) {
 
 // ---- Reciprocity where the definition implies it ---------------------------------------------
 //
-// f(wi, wo) = f(wo, wi) follows from each definition in brdf-models.md as derived beside each
+// f(wi, wo) = f(wo, wi) follows from each definition in docs/models.md as derived beside each
 // model's kFlags (materials/<model>.h); the measurement must agree with the declared flag.
 
 TEST_P(Invariants, ReciprocityWhereTheDefinitionImpliesIt) {

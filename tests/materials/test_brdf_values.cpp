@@ -2,7 +2,7 @@
 // form (phong, strauss, schlick_lewis, ward, cook_torrance, lafortune, ashikhmin_shirley) and
 // lambert, at least three cases each, against values computed independently of the C++ code by
 // tests/materials/reference_values.py (python3 standard library; each formula typed again from
-// shared/docs/brdf-models.md, its own complex Fresnel via cmath). Poulin–Fournier and He–Torrance
+// docs/models.md, its own complex Fresnel via cmath). Poulin–Fournier and He–Torrance
 // have their own value tests.
 //
 // Derivation of two values on paper, as a check of the script itself:

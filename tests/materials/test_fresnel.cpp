@@ -6,7 +6,7 @@
 
 namespace lobe {
 
-// Normal incidence identity of shared/docs/brdf-models.md: F(1) = ((η−1)² + κ²)/((η+1)² + κ²).
+// Normal incidence identity of docs/models.md: F(1) = ((η−1)² + κ²)/((η+1)² + κ²).
 TEST(Fresnel, NormalIncidenceIdentity) {
     const double cases[][2] = {{1.6, 0.2}, {1.5, 0.0}, {0.16, 3.5}, {2.5, 0.0}, {1.0, 0.0}};
     for (const auto& c : cases) {

@@ -1,4 +1,4 @@
-// He–Torrance (brdf-models.md model 7): values against an independent Python implementation, the
+// He–Torrance (docs/models.md model 7): values against an independent Python implementation, the
 // D series' early stop against a sum with many more terms (small and large g), the Newton z0
 // against its equation, S against a hand value, reciprocity, finiteness and non-negativity at
 // grazing, mirror and retro pairs and at the ends of the parameter ranges.
@@ -187,7 +187,7 @@ TEST(HeTorrance, ShadowingHandValueAndLimits) {
 }
 
 // --- (d) invariants ----------------------------------------------------------------------------
-// Reciprocal by construction (brdf-models.md model 7): K(θi) + K(θo), g ∝ (cos θi + cos θo)², D
+// Reciprocal by construction (docs/models.md model 7): K(θi) + K(θo), g ∝ (cos θi + cos θo)², D
 // and G of H = wi + wo, S(θi)S(θo), F(wi·h) with wi·h = wo·h.
 TEST(HeTorrance, ReciprocalForRandomPairs) {
     for (const auto& settings : std::vector<std::vector<std::string>>{

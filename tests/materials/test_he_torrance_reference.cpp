@@ -1,7 +1,7 @@
 // He–Torrance's roughness series D (materials/he_torrance.cpp: summed outward from its peak term
 // in linear space by the term-ratio recurrence, in vectorised blocks) against references that
 // share none of its code:
-//  - the series of shared/docs/brdf-models.md (model 7) summed term by term in long double over
+//  - the series of docs/models.md (model 7) summed term by term in long double over
 //    a window of ±50 standard deviations of the Poisson weights around the peak, each term from
 //    its own logarithm  L(m) = m ln g − g − lnΓ(m+1) − ln m − a/m,  a = |v_xy|²τ²/4:
 //        D = (π² τ² / 4) Σ_m e^{L(m)};

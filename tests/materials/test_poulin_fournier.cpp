@@ -1,4 +1,4 @@
-// Poulin–Fournier (brdf-models.md model 6): values against an independent brute-force integration
+// Poulin–Fournier (docs/models.md model 6): values against an independent brute-force integration
 // (Python and C++), the adaptive rule's accuracy, the fixed rule's error on a narrow lobe,
 // reciprocity, finiteness and non-negativity at grazing, mirror and retro pairs, and the
 // parameter table.
@@ -221,7 +221,7 @@ TEST(PoulinFournier, FixedRuleMissesANarrowLobeAdaptiveDoesNot) {
 }
 
 // --- (d) invariants -----------------------------------------------------------------------------
-// The definition is symmetric in wi and wo (brdf-models.md model 6), and so is the evaluation
+// The definition is symmetric in wi and wo (docs/models.md model 6), and so is the evaluation
 // (same nodes, products in commutative order), up to the order of the floor's breakpoints.
 TEST(PoulinFournier, ReciprocalForRandomPairs) {
     for (const auto& settings : std::vector<std::vector<std::string>>{

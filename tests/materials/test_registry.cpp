@@ -18,7 +18,7 @@ TEST(Registry, KnowsEveryModelByName) {
     }
 }
 
-// shared/docs/brdf-models.md, "The models": the nine specular models numbered 1-9 as in the
+// docs/models.md, "The models": the nine specular models numbered 1-9 as in the
 // paper (Koldenhof 2003, Table 1 numbering), then the Lambertian term the renderer adds; the CLI,
 // `lobe brdf props` and the flux-overlap ranking all iterate this list, so its content and order
 // are part of the interface.
@@ -72,7 +72,7 @@ TEST(Registry, PerBandValuesAreParsed) {
 }
 
 TEST(Registry, DefaultsMatchTheNormativeTable) {
-    // shared/docs/brdf-models.md, "The models".
+    // docs/models.md, "The models".
     const auto w = std::get<Ward>(makeBrdf("ward"));
     EXPECT_EQ(w.rhoS[0], 0.05);
     EXPECT_EQ(w.alphaX[0], 0.05);

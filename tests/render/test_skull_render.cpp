@@ -4,7 +4,7 @@
 // BRDF that does not exist is rejected with the key path.
 //
 // Why the centre pixel must hit: the camera looks at the skull's bounding-box centre
-// (110, 131, 116) (shared/docs/paper-scene.md), and the central ray crosses the bone there (the
+// (110, 131, 116) (docs/paper-scene.md), and the central ray crosses the bone there (the
 // lateral skull wall in front of the centre along a 45° front-side view). The check compares
 // against the same view with the skull made fully transparent, so a miss (centre = backdrop exactly) fails.
 #include "render/render_scene.h"

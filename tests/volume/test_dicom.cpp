@@ -131,12 +131,12 @@ TEST(Dicom, ShippedPydicomCtSeriesMatchesPydicomsNifti) {
     const fs::path shipped = "/usr/lib/python3/dist-packages/pydicom/data/test_files/dicomdirtests/98892001/CT5N";
     ASSERT_TRUE(fs::is_directory(shipped)) << "python3-pydicom's test data (scripts/setup.sh)";
     const Volume d = loadVolume(shipped.string());
-    // Facts about the series (shared/docs/stack.md): 16 × 16 × 5, 2.5 mm apart, intercept −1024.
+    // Facts about the series (docs/dependencies.md): 16 × 16 × 5, 2.5 mm apart, intercept −1024.
     EXPECT_EQ(d.dims, (std::array<int, 3>{16, 16, 5}));
     EXPECT_NEAR(d.spacing[2], 2.5, 1e-4);
     EXPECT_LT(d.originalMin, 0.0);
     expectSameByWorld(d, loadVolume(at("ct5n.nii")));
-    // The other shipped series of stack.md: CT2 has a gap, CT2N two orientations.
+    // The other shipped series of docs/dependencies.md: CT2 has a gap, CT2N two orientations.
     const fs::path dirs = shipped.parent_path().parent_path();
     expectError([&] { loadVolume((dirs / "77654033/CT2").string()); }, {"CT2", "missing slices"});
     expectError([&] { loadVolume((dirs / "98892001/CT2N").string()); }, {"CT2N", "mixed orientations"});

@@ -1,6 +1,6 @@
-// The real volumes against the values measured independently (nibabel / numpy) and listed in
-// ../shared/data/README.md: the shipped CThead (assets/cthead) and brain volumes (assets/brain),
-// and the files in ../shared/data when that folder is present (skipped otherwise).
+// The real volumes against values measured independently (nibabel / numpy): the shipped CThead
+// (assets/cthead, values in assets/cthead/README.md) and brain volumes (assets/brain), and
+// colin27 from Debian's mricron-data (scripts/setup.sh).
 #include "volume/volume.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +12,8 @@ namespace lobe {
 namespace {
 
 const std::string kAssets = LOBE_SOURCE_DIR "/assets";
-const std::string kShared = LOBE_SOURCE_DIR "/../shared/data";
+// Debian mricron-data: colin27 (Holmes et al. 1998) in the MNI 1 mm grid, brain only.
+const std::string kColin27 = "/usr/share/mricron/templates/ch2bet.nii.gz";
 
 struct Counts {
     std::int64_t nonZero = 0;
@@ -43,12 +44,7 @@ void expectWorld(const Volume& v, openvdb::Vec3d index, openvdb::Vec3d expected)
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(w[a], expected[a], 1e-4) << "axis " << a;
 }
 
-std::string sharedFile(const std::string& name) {
-    const std::string path = kShared + "/" + name;
-    return std::filesystem::exists(path) ? path : std::string();
-}
-
-// data/README.md §1: range 0..3272, mean 379.5, 4.0 % of voxels above the paper's iso 0.5 of
+// assets/cthead/README.md: range 0..3272, mean 379.5, 4.0 % of voxels above the paper's iso 0.5 of
 // v/3272, i.e. raw 1636. The asset opens with no options through its NRRD header.
 TEST(RealData, CtheadAssetMatchesMeasuredValues) {
     LoadOptions o;
@@ -62,19 +58,38 @@ TEST(RealData, CtheadAssetMatchesMeasuredValues) {
     const double n = 256.0 * 256.0 * 113.0;
     EXPECT_NEAR(c.sum / n * 3272.0, 379.5, 0.05);
     EXPECT_NEAR(100.0 * c.above[0] / n, 4.0, 0.05);
-    EXPECT_NEAR(100.0 * c.above[1] / n, 2.4, 0.05);  // the 12-bit normalisation, README §1
+    EXPECT_NEAR(100.0 * c.above[1] / n, 2.4, 0.05);  // the 12-bit normalisation, README
     EXPECT_FLOAT_EQ(static_cast<float>(c.max), 1.0f);
 }
 
-// data/README.md §2: 197×233×189 uint8, sform diag(1,1,1) origin (−98, −134, −72); GM non-zero
-// in 1,961,850 voxels, above prob 0.70/0.75/0.80/0.85 (raw > 178.5/191.25/204/216.75, prob =
-// raw/255) in 760,002 / 655,603 / 538,136 / 415,626. The thresholds are applied to the raw
+// colin27 brain (Debian mricron-data 1.2.20211006, ch2bet.nii.gz, sha256 592a2d20…7c5dd1):
+// 181×217×181 uint8, little-endian, scl_slope 1, sform (code 4) diag(1, 1, 1) origin
+// (−90, −125, −71); measured with nibabel 5.0 on the raw values: range 0..133, 1,737,193
+// non-zero, above 30.5 / 60.5 / 90.5 / 120.5: 1,726,464 / 1,619,672 / 915,390 / 5,646.
+TEST(RealData, Colin27FromDebianMatchesMeasuredValues) {
+    ASSERT_TRUE(std::filesystem::exists(kColin27)) << "Debian mricron-data (scripts/setup.sh)";
+    const Volume v = loadVolume(kColin27);
+    EXPECT_EQ(v.dims, (std::array<int, 3>{181, 217, 181}));
+    expectWorld(v, {0, 0, 0}, {-90, -125, -71});
+    expectWorld(v, {180, 216, 180}, {90, 91, 109});
+    const Counts c = count(v, {30.5, 60.5, 90.5, 120.5});
+    EXPECT_EQ(c.nonZero, 1737193);
+    EXPECT_EQ(c.above[0], 1726464);
+    EXPECT_EQ(c.above[1], 1619672);
+    EXPECT_EQ(c.above[2], 915390);
+    EXPECT_EQ(c.above[3], 5646);
+    EXPECT_EQ(c.min, 0.0);
+    EXPECT_EQ(c.max, 133.0);
+}
+
+// assets/brain/README.md: 197×233×189 uint8, sform diag(1,1,1) origin (−98, −134, −72); GM
+// non-zero in 1,961,850 voxels, above prob 0.70/0.75/0.80/0.85 (raw > 178.5/191.25/204/216.75,
+// prob = raw/255) in 760,002 / 655,603 / 538,136 / 415,626. The thresholds are applied to the raw
 // values so none falls on an integer after rounding; 204 is exactly 0.80·255, and "above 0.80"
 // means raw ≥ 205.
-TEST(RealData, MniGreyMatterCounts) {
-    const std::string path = sharedFile("mni_icbm152_2009a/mni_icbm152_gm_tal_nlin_sym_09a_converted.nii.gz");
-    if (path.empty()) GTEST_SKIP() << "../shared/data is absent";
-    const Volume v = loadVolume(path);
+TEST(RealData, MniGreyMatterAssetCounts) {
+    const Volume v =
+        loadVolume(kAssets + "/brain/mni_icbm152_gm_tal_nlin_sym_09a_converted.nii.gz");
     EXPECT_EQ(v.dims, (std::array<int, 3>{197, 233, 189}));
     expectWorld(v, {0, 0, 0}, {-98, -134, -72});
     expectWorld(v, {196, 232, 188}, {98, 98, 116});
@@ -98,7 +113,7 @@ TEST(RealData, MniT1AssetNonZeroVoxels) {
     EXPECT_EQ(c.max, 255.0);
 }
 
-// data/README.md §4: 91×109×91, affine diag(−2, 2, 2) origin (90, −126, −72) (LAS), prob = raw ×
+// assets/brain/README.md: 91×109×91, affine diag(−2, 2, 2) origin (90, −126, −72) (LAS), prob = raw ×
 // scl_slope. FieldMap grey (little-endian, slope 0.0037677817): max 0.9608, non-zero 338,634,
 // above 0.70/0.75/0.80/0.85: 40,766 / 23,712 / 13,165 / 5,369.
 TEST(RealData, SpmFieldMapGreyAsset) {
@@ -116,28 +131,10 @@ TEST(RealData, SpmFieldMapGreyAsset) {
     EXPECT_EQ(c.above[3], 5369);
 }
 
-// OldSeg grey: big-endian header, slope 1/255; non-zero 255,093, above 0.70 / 0.85: 52,313 /
-// 6,471 (0.75 and 0.80 are left out: 0.80·255 = 204 falls exactly on a raw value, where float
-// and double rounding of the slope decide the side).
-TEST(RealData, SpmOldSegGreyBigEndianHeader) {
-    const std::string path = sharedFile("spm12_tissue_priors/grey_icbm452_OldSeg.nii.gz");
-    if (path.empty()) GTEST_SKIP() << "../shared/data is absent";
-    const Volume v = loadVolume(path);
-    EXPECT_EQ(v.dims, (std::array<int, 3>{91, 109, 91}));
-    expectWorld(v, {0, 0, 0}, {90, -126, -72});
-    expectWorld(v, {90, 108, 90}, {-90, 90, 108});
-    const Counts c = count(v, {0.70, 0.85, 0.85, 0.85});
-    EXPECT_EQ(c.nonZero, 255093);
-    EXPECT_EQ(c.above[0], 52313);
-    EXPECT_EQ(c.above[1], 6471);
-    EXPECT_NEAR(c.max, 0.9765, 1e-4);
-}
-
-// data/README.md §1: the shared raw file with the explicit layout gives the same volume as the
-// asset's NRRD header.
+// The asset's raw file read with the explicit layout gives the same volume as through its NRRD
+// header.
 TEST(RealData, CtheadRawLayoutEqualsNrrd) {
-    const std::string path = sharedFile("cthead/cthead_256x256x113_int16be.raw.gz");
-    if (path.empty()) GTEST_SKIP() << "../shared/data is absent";
+    const std::string path = kAssets + "/cthead/cthead_256x256x113_int16be.raw.gz";
     LoadOptions o;
     o.hasLayout = true;
     o.layout.dims = {256, 256, 113};
