@@ -368,6 +368,33 @@ StudyAnalysis analyseStudy(const std::vector<StudyAnswers>& answers, const Study
     return r;
 }
 
+MarkerSpot highlightMarker(const std::vector<std::vector<float>>& specular, int width, int height,
+                           int object, double minShare, int border) {
+    MarkerSpot best;
+    if (object < 0 || object >= int(specular.size())) return best;
+    const auto box = [&](const std::vector<float>& layer, int x, int y) {
+        double sum = 0.0;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int u = std::clamp(x + dx, 0, width - 1), v = std::clamp(y + dy, 0, height - 1);
+                sum += double(layer[size_t(v) * size_t(width) + size_t(u)]);
+            }
+        return sum;
+    };
+    double bestValue = 0.0;
+    for (int y = border; y < height - border; ++y)
+        for (int x = border; x < width - border; ++x) {
+            const double own = box(specular[size_t(object)], x, y);
+            if (!(own > bestValue)) continue;
+            double all = 0.0;
+            for (const std::vector<float>& layer : specular) all += box(layer, x, y);
+            if (own < minShare * all) continue;
+            bestValue = own;
+            best = {true, x, y, own / all};
+        }
+    return best;
+}
+
 std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedObserverModel& model,
                                  int observer, uint64_t seed) {
     using nlohmann::json;

@@ -128,6 +128,22 @@ struct StudyAnalysisOptions {
 StudyAnalysis analyseStudy(const std::vector<StudyAnswers>& answers,
                            const StudyAnalysisOptions& options = {});
 
+// --- Stimuli -------------------------------------------------------------------------------
+
+// Where the marker task puts its marker for `object`: the pixel where that object's highlight is
+// brightest among the pixels where it is the highlight — its specular luminance at least
+// `minShare` of all objects' specular luminance there — both summed over the 3×3 neighbourhood
+// (one noisy sample at 1 spp does not decide), at least `border` pixels from the image's edge so
+// the marker is seen whole. `specular[o]` is object o's specular luminance, row-major
+// width × height. found = false when the object's highlight dominates nowhere.
+struct MarkerSpot {
+    bool found = false;
+    int x = 0, y = 0;
+    double share = 0.0;  // its share of the specular luminance there
+};
+MarkerSpot highlightMarker(const std::vector<std::vector<float>>& specular, int width, int height,
+                           int object, double minShare = 0.75, int border = 4);
+
 // --- Simulated observers (tests, docs/study.md's worked example) ----------------------------
 
 // A simulated observer's model: quality q (JOD) per condition, the probability of naming the right

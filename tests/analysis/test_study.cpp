@@ -191,6 +191,36 @@ TEST(StudyAnswersFile, AttentionFailuresAreExcludedAndMarkersScored) {
     EXPECT_EQ(a.markerAccuracy[0].trials, 0);
 }
 
+// Two objects on a 20×12 image: A bright at (6, 5) where B is as bright (no marker there), A
+// dimmer but alone at (14, 6); B alone at (3, 1) — too near the edge — and at (10, 8).
+TEST(StudyStimuli, MarkerGoesWhereTheObjectsHighlightDominates) {
+    const int w = 20, h = 12;
+    std::vector<std::vector<float>> s(2, std::vector<float>(size_t(w * h), 0.0f));
+    const auto put = [&](int o, int x, int y, float v) { s[size_t(o)][size_t(y * w + x)] = v; };
+    put(0, 6, 5, 5.0f);
+    put(1, 6, 5, 5.0f);
+    put(0, 14, 6, 2.0f);
+    put(1, 3, 1, 9.0f);
+    put(1, 10, 8, 1.0f);
+    const MarkerSpot a = highlightMarker(s, w, h, 0);
+    ASSERT_TRUE(a.found);
+    EXPECT_EQ(a.x, 13);  // the 3×3 sums tie on the 9 pixels around (14, 6): the first in row order
+    EXPECT_EQ(a.y, 5);
+    EXPECT_DOUBLE_EQ(a.share, 1.0);
+    const MarkerSpot b = highlightMarker(s, w, h, 1);
+    ASSERT_TRUE(b.found);
+    EXPECT_EQ(b.x, 9);
+    EXPECT_EQ(b.y, 7);
+    // With a share of 0.5 allowed, the shared spot (sum 10 against 2) wins for A.
+    const MarkerSpot shared = highlightMarker(s, w, h, 0, 0.5);
+    EXPECT_EQ(shared.x, 5);
+    EXPECT_EQ(shared.y, 4);
+    EXPECT_DOUBLE_EQ(shared.share, 0.5);
+    // An object with no highlight anywhere gets no marker.
+    s[0].assign(size_t(w * h), 0.0f);
+    EXPECT_FALSE(highlightMarker(s, w, h, 0).found);
+}
+
 TEST(StudyAnswersFile, BadFilesNameTheFileAndKey) {
     const auto message = [](const std::string& text) {
         try {
