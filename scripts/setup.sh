@@ -12,6 +12,7 @@ packages=(
   fonts-dejavu-core libfreetype-dev
   openmpi-bin libopenmpi-dev
   clang libclang-rt-14-dev bc
+  libcpp-httplib-dev chromium chromium-driver python3-selenium
 )
 
 missing=()
