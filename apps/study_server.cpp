@@ -131,21 +131,24 @@ void serveStudy(const StudyServerOptions& options) {
             refuse(res, 403, "answers are accepted from the study's own page only");
             return Handled::Handled;
         }
+        return Handled::Unhandled;  // the body is read for the route below
+    });
+    server.Post("/answers", [&](const httplib::Request& req, httplib::Response& res) {
         StudyAnswers answers;
         try {
             answers = parseStudyAnswers(req.body, "posted answers");
         } catch (const Error& e) {
             refuse(res, 400, e.what());
-            return Handled::Handled;
+            return;
         }
         if (answers.study != fingerprint) {
             refuse(res, 400, "answers of another study (" + answers.study + ")");
-            return Handled::Handled;
+            return;
         }
         if (size_t(answers.trials()) != trialCount) {
             refuse(res, 400, "answers to " + std::to_string(answers.trials()) + " of " +
                                  std::to_string(trialCount) + " trials");
-            return Handled::Handled;
+            return;
         }
         std::lock_guard<std::mutex> lock(saving);
         const std::string base = safeName(answers.participant);
@@ -155,15 +158,14 @@ void serveStudy(const StudyServerOptions& options) {
                 if (writeTextFileAtomic((answersDir / name).string(), req.body, true)) {
                     if (!options.quiet) std::fprintf(stderr, "saved answers/%s\n", name.c_str());
                     res.set_content(json{{"saved", "answers/" + name}}.dump(), "application/json");
-                    return Handled::Handled;
+                    return;
                 }
             } catch (const Error& e) {
                 refuse(res, 500, e.what());
-                return Handled::Handled;
+                return;
             }
         }
         refuse(res, 500, "too many answers files for participant '" + base + "'");
-        return Handled::Handled;
     });
     int port = options.port;
     if (port == 0) {
