@@ -12,7 +12,9 @@ namespace {
 
 std::string fmt(const char* format, double v) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
+    std::snprintf(buf, sizeof buf, format, v == 0.0 ? 0.0 : v);  // no "-0.00"
+    if (std::string(buf).find_first_not_of("-0.") == std::string::npos && buf[0] == '-')
+        return std::string(buf + 1);
     return buf;
 }
 
