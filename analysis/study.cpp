@@ -396,7 +396,7 @@ MarkerSpot highlightMarker(const std::vector<std::vector<float>>& specular, int 
 }
 
 std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedObserverModel& model,
-                                 int observer, uint64_t seed) {
+                                 int observer, uint64_t seed, const std::string& participant) {
     using nlohmann::json;
     const json study = json::parse(studyJson);
     const json& conditions = study.at("conditions");
@@ -409,7 +409,7 @@ std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedOb
     json out;
     out["format"] = "lobe-study-answers-1";
     out["study"] = study.at("study");
-    out["participant"] = "sim-" + std::to_string(observer);
+    out["participant"] = participant.empty() ? "sim-" + std::to_string(observer) : participant;
     json names = json::array();
     for (const json& c : conditions) names.push_back(c.at("name"));
     out["conditions"] = names;

@@ -158,7 +158,8 @@ struct SimulatedObserverModel {
 // observer `observer`: pair choices drawn from the Thurstone model above, marker answers right
 // with markerAccuracy (else a wrong option uniformly), attention checks passed with attentionPass.
 // Returns the answers file's text (the page's format). Deterministic in (seed, observer).
+// `participant`: the id written ("" : "sim-<observer>").
 std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedObserverModel& model,
-                                 int observer, uint64_t seed);
+                                 int observer, uint64_t seed, const std::string& participant = "");
 
 }  // namespace lobe

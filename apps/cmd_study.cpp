@@ -100,7 +100,7 @@ void runAnalyse(const AnalyseCommand& cmd) {
 }
 
 struct SimulateCommand {
-    std::string studyDir, outDir, jod, accuracy;
+    std::string studyDir, outDir, jod, accuracy, prefix = "sim-";
     double attentionPass = 1.0;
     int observers = 20;
     uint64_t seed = 1;
@@ -115,12 +115,16 @@ void runSimulate(const SimulateCommand& cmd) {
         if (p < 0.0 || p > 1.0) throw Error("--accuracy: probabilities in [0, 1]");
     model.attentionPass = cmd.attentionPass;
     if (cmd.observers < 1) throw Error("--observers must be at least 1");
+    if (cmd.prefix.empty() ||
+        cmd.prefix.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_") !=
+            std::string::npos)
+        throw Error("--prefix: letters, digits, '-' and '_' only, got '" + cmd.prefix + "'");
     std::vector<std::string> texts;
     for (int o = 0; o < cmd.observers; ++o)
-        texts.push_back(simulateStudyAnswers(studyJson, model, o, cmd.seed));
+        texts.push_back(simulateStudyAnswers(studyJson, model, o, cmd.seed, cmd.prefix + std::to_string(o)));
     createOutputFolder(cmd.outDir);
     for (int o = 0; o < cmd.observers; ++o) {
-        const std::string path = (fs::path(cmd.outDir) / ("sim-" + std::to_string(o) + ".json")).string();
+        const std::string path = (fs::path(cmd.outDir) / (cmd.prefix + std::to_string(o) + ".json")).string();
         if (!writeTextFileAtomic(path, texts[size_t(o)], true))
             throw Error("'" + path + "' exists: give a new --out folder");
     }
@@ -222,7 +226,10 @@ void registerStudyCommand(CLI::App& app) {
     simSub->add_option("--observers", simulate.observers, "simulated participants")
         ->capture_default_str();
     simSub->add_option("--seed", simulate.seed, "seed of the simulated choices")->capture_default_str();
-    simSub->add_option("--out", simulate.outDir, "folder for sim-K.json")->required();
+    simSub->add_option("--prefix", simulate.prefix,
+                       "participant ids and file names: PREFIX0, PREFIX1, … (PREFIXK.json)")
+        ->capture_default_str();
+    simSub->add_option("--out", simulate.outDir, "folder for the answers files")->required();
     simSub->callback([] { runSimulate(simulate); });
 }
 
