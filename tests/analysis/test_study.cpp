@@ -111,7 +111,7 @@ TEST(StudyJod, PlantedOneJodDifferenceIsRecovered) {
     model.jod = {0.0, 1.0, 0.4};
     StudyAnalysisOptions options;
     options.bootstrapSamples = 200;
-    int covered = 0;
+    int covered = 0, oneOverZero = 0, zeroOneTrials = 0;
     double meanError = 0.0;
     const int studies = 40;
     for (int s = 0; s < studies; ++s) {
@@ -119,6 +119,12 @@ TEST(StudyJod, PlantedOneJodDifferenceIsRecovered) {
         for (int o = 0; o < 30; ++o)
             answers.push_back(parseStudyAnswers(simulateStudyAnswers(study, model, o, 1000 + uint64_t(s)),
                                                 "sim" + std::to_string(o)));
+        for (const StudyAnswers& o : answers)
+            for (const auto& p : o.pairs)
+                if (p.a == 0 && p.b == 1) {
+                    oneOverZero += p.chosen == 1;
+                    zeroOneTrials += 1;
+                }
         const StudyAnalysis a = analyseStudy(answers, options);
         ASSERT_EQ(a.included.size(), 30u);
         const double d = a.jod.q[1] - a.jod.q[0];
@@ -129,6 +135,10 @@ TEST(StudyJod, PlantedOneJodDifferenceIsRecovered) {
     }
     EXPECT_NEAR(meanError, 0.0, 0.05);  // no bias beyond the simulations' noise
     EXPECT_GE(covered, 34);             // a 95 % interval holds the truth in most studies
+    // The simulated observers follow the JOD definition: 1 JOD apart, 75 % choose the better
+    // (24 000 choices: standard error 0.003).
+    EXPECT_EQ(zeroOneTrials, 40 * 30 * 20);
+    EXPECT_NEAR(double(oneOverZero) / zeroOneTrials, 0.75, 0.01);
 }
 
 TEST(StudyJod, BootstrapIsDeterministicAndBracketsTheEstimate) {
