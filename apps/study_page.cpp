@@ -180,111 +180,124 @@ void buildStudy(const StudyRequest& r) {
                         "): give a new folder");
     if (fs::exists(out / "stimuli"))
         throw Error("--out '" + r.outDir + "' already has a stimuli folder: give a new folder");
+    // Everything written from here is this run's (the checks above found none of it): a failure
+    // removes it again, so no half-made study is left.
+    const bool newFolder = !fs::exists(out);
     createOutputFolder(r.outDir);
+    size_t conditionCount = 0, trialCount = 0;
+    try {
+        RenderBatchRequest batch;
+        batch.scenes = r.scenes;
+        batch.outDir = (out / "stimuli").string();
+        batch.overrides = r.overrides;
+        batch.orbit = r.orbit;
+        batch.quiet = r.quiet;
+        if (markers) batch.aov = "objects";  // each object's specular pass, for the marker
+        const std::vector<RenderedImage> images = renderBatch(batch);
 
-    RenderBatchRequest batch;
-    batch.scenes = r.scenes;
-    batch.outDir = (out / "stimuli").string();
-    batch.overrides = r.overrides;
-    batch.orbit = r.orbit;
-    batch.quiet = r.quiet;
-    if (markers) batch.aov = "objects";  // each object's specular pass, for the marker
-    const std::vector<RenderedImage> images = renderBatch(batch);
-
-    json conditions = json::array();
-    json trials = json::array();
-    Rng rng(mixBits(r.seed), 0x57d1);
-    const auto draw = [&](size_t n) { return std::min(n - 1, size_t(rng.uniform() * double(n))); };
-    std::vector<std::vector<std::string>> objectNames;
-    for (size_t c = 0; c < specs.size(); ++c) {
-        json frames = json::array();
-        std::string first;
-        for (const RenderedImage& image : images)
-            if (fs::path(image.scene) == fs::path(specs[c].path)) {
-                frames.push_back("stimuli/" + fs::path(image.base).filename().string() + ".png");
-                if (first.empty()) first = image.base;
+        json conditions = json::array();
+        json trials = json::array();
+        Rng rng(mixBits(r.seed), 0x57d1);
+        const auto draw = [&](size_t n) { return std::min(n - 1, size_t(rng.uniform() * double(n))); };
+        std::vector<std::vector<std::string>> objectNames;
+        for (size_t c = 0; c < specs.size(); ++c) {
+            json frames = json::array();
+            std::string first;
+            for (const RenderedImage& image : images)
+                if (fs::path(image.scene) == fs::path(specs[c].path)) {
+                    frames.push_back("stimuli/" + fs::path(image.base).filename().string() + ".png");
+                    if (first.empty()) first = image.base;
+                }
+            if (frames.empty()) throw Error(specs[c].path + ": no image was rendered");
+            std::vector<std::string> names;
+            for (const ObjectSpec& o : specs[c].objects) names.push_back(o.name);
+            objectNames.push_back(names);
+            conditions.push_back({{"name", fs::path(specs[c].path).stem().string()},
+                                  {"title", specs[c].title},
+                                  {"frames", frames},
+                                  {"objects", names}});
+            if (!markers) continue;
+            // The marker task on the (first) frame: one trial per object whose highlight dominates
+            // somewhere (analysis/study.h, highlightMarker).
+            const auto layers = specularLuminance(first + ".exr", names.size());
+            int placed = 0;
+            for (size_t o = 0; o < names.size(); ++o) {
+                const MarkerSpot spot = highlightMarker(layers, specs[c].width, specs[c].height, int(o));
+                if (!spot.found) {
+                    if (!r.quiet)
+                        std::fprintf(stderr, "lobe: note: %s: the highlight of '%s' dominates nowhere: "
+                                             "no marker trial for it\n",
+                                     specs[c].path.c_str(), names[o].c_str());
+                    continue;
+                }
+                ++placed;
+                trials.push_back({{"kind", "marker"},
+                                  {"condition", c},
+                                  {"object", names[o]},
+                                  {"x", (spot.x + 0.5) / specs[c].width},
+                                  {"y", (spot.y + 0.5) / specs[c].height},
+                                  {"options", names}});
             }
-        if (frames.empty()) throw Error(specs[c].path + ": no image was rendered");
-        std::vector<std::string> names;
-        for (const ObjectSpec& o : specs[c].objects) names.push_back(o.name);
-        objectNames.push_back(names);
-        conditions.push_back({{"name", fs::path(specs[c].path).stem().string()},
-                              {"title", specs[c].title},
-                              {"frames", frames},
-                              {"objects", names}});
-        if (!markers) continue;
-        // The marker task on the (first) frame: one trial per object whose highlight dominates
-        // somewhere (analysis/study.h, highlightMarker).
-        const auto layers = specularLuminance(first + ".exr", names.size());
-        int placed = 0;
-        for (size_t o = 0; o < names.size(); ++o) {
-            const MarkerSpot spot = highlightMarker(layers, specs[c].width, specs[c].height, int(o));
-            if (!spot.found) {
-                if (!r.quiet)
-                    std::fprintf(stderr, "lobe: note: %s: the highlight of '%s' dominates nowhere: "
-                                         "no marker trial for it\n",
-                                 specs[c].path.c_str(), names[o].c_str());
-                continue;
+            if (placed == 0)
+                throw Error(specs[c].path + ": no object's highlight dominates anywhere in the image, "
+                            "so the marker task has no trial for it");
+        }
+        if (pairs)
+            for (int k = 0; k < r.repeats; ++k)
+                for (size_t i = 0; i < specs.size(); ++i)
+                    for (size_t j = i + 1; j < specs.size(); ++j)
+                        trials.push_back({{"kind", "pair"}, {"a", i}, {"b", j}});
+        // Attention checks (instructed-response items: the prompt names the answer to give;
+        // D. M. Oppenheimer, T. Meyvis & N. Davidenko, "Instructional manipulation checks", J. Exp.
+        // Social Psychology 45(4), 2009): in a pair study over two random conditions, naming a side;
+        // in a marker study over a random condition, naming one of its objects.
+        for (int k = 0; k < r.checks; ++k) {
+            if (pairs) {
+                const size_t a = draw(specs.size());
+                size_t b = draw(specs.size() - 1);
+                if (b >= a) ++b;
+                trials.push_back({{"kind", "attention"}, {"a", a}, {"b", b},
+                                  {"instructed", rng.uniform() < 0.5 ? "left" : "right"}});
             }
-            ++placed;
-            trials.push_back({{"kind", "marker"},
-                              {"condition", c},
-                              {"object", names[o]},
-                              {"x", (spot.x + 0.5) / specs[c].width},
-                              {"y", (spot.y + 0.5) / specs[c].height},
-                              {"options", names}});
+            if (markers) {
+                const size_t c = draw(specs.size());
+                const std::vector<std::string>& names = objectNames[c];
+                trials.push_back({{"kind", "attention"}, {"condition", c},
+                                  {"instructed", names[draw(names.size())]}, {"options", names}});
+            }
         }
-        if (placed == 0)
-            throw Error(specs[c].path + ": no object's highlight dominates anywhere in the image, "
-                        "so the marker task has no trial for it");
-    }
-    if (pairs)
-        for (int k = 0; k < r.repeats; ++k)
-            for (size_t i = 0; i < specs.size(); ++i)
-                for (size_t j = i + 1; j < specs.size(); ++j)
-                    trials.push_back({{"kind", "pair"}, {"a", i}, {"b", j}});
-    // Attention checks (instructed-response items: the prompt names the answer to give;
-    // D. M. Oppenheimer, T. Meyvis & N. Davidenko, "Instructional manipulation checks", J. Exp.
-    // Social Psychology 45(4), 2009): in a pair study over two random conditions, naming a side;
-    // in a marker study over a random condition, naming one of its objects.
-    for (int k = 0; k < r.checks; ++k) {
-        if (pairs) {
-            const size_t a = draw(specs.size());
-            size_t b = draw(specs.size() - 1);
-            if (b >= a) ++b;
-            trials.push_back({{"kind", "attention"}, {"a", a}, {"b", b},
-                              {"instructed", rng.uniform() < 0.5 ? "left" : "right"}});
+        json study;
+        study["format"] = "lobe-study-1";
+        study["task"] = r.task;
+        study["seed"] = uint32_t(r.seed & 0xffffffffu);
+        study["width"] = specs.front().width;
+        study["height"] = specs.front().height;
+        study["orbit"] = r.orbit;
+        study["question"] = r.question;
+        study["markerQuestion"] = "Which structure does the highlight at the marker belong to?";
+        study["instructions"] = instructions(r.task);
+        study["conditions"] = conditions;
+        study["trials"] = trials;
+        study["study"] = fingerprint(study.dump());
+        // The EXRs served the marker only; the folder keeps the page, the PNGs and study.json.
+        for (const RenderedImage& image : images) {
+            std::error_code ec;
+            fs::remove(image.base + ".exr", ec);
         }
-        if (markers) {
-            const size_t c = draw(specs.size());
-            const std::vector<std::string>& names = objectNames[c];
-            trials.push_back({{"kind", "attention"}, {"condition", c},
-                              {"instructed", names[draw(names.size())]}, {"options", names}});
-        }
-    }
-    json study;
-    study["format"] = "lobe-study-1";
-    study["task"] = r.task;
-    study["seed"] = uint32_t(r.seed & 0xffffffffu);
-    study["width"] = specs.front().width;
-    study["height"] = specs.front().height;
-    study["orbit"] = r.orbit;
-    study["question"] = r.question;
-    study["markerQuestion"] = "Which structure does the highlight at the marker belong to?";
-    study["instructions"] = instructions(r.task);
-    study["conditions"] = conditions;
-    study["trials"] = trials;
-    study["study"] = fingerprint(study.dump());
-    // The EXRs served the marker only; the folder keeps the page, the PNGs and study.json.
-    for (const RenderedImage& image : images) {
+        const std::string text = study.dump(1);
+        writeTextFileAtomic((out / "study.json").string(), text);
+        writeTextFileAtomic((out / "index.html").string(), studyPage(study.dump()));
+        conditionCount = specs.size();
+        trialCount = trials.size();
+    } catch (...) {
         std::error_code ec;
-        fs::remove(image.base + ".exr", ec);
+        fs::remove_all(out / "stimuli", ec);
+        fs::remove(out / "study.json", ec);
+        if (newFolder) fs::remove(out, ec);  // only when empty
+        throw;
     }
-    const std::string text = study.dump(1);
-    writeTextFileAtomic((out / "study.json").string(), text);
-    writeTextFileAtomic((out / "index.html").string(), studyPage(study.dump()));
     if (!r.quiet)
-        std::fprintf(stderr, "study: %zu conditions, %zu trials -> %s\n", specs.size(), trials.size(),
+        std::fprintf(stderr, "study: %zu conditions, %zu trials -> %s\n", conditionCount, trialCount,
                      (out / "index.html").c_str());
 }
 

@@ -29,6 +29,18 @@ lobe_error(["study", one, one, "--out", empty, "--task", "rank"], "--task: expec
 lobe_error(["study", one, os.path.join(paper, "missing.json"), "--out", empty], "missing.json' does not exist")
 lobe_error(["study", one, one, "--out", empty], "are both called 'rendering-01'")
 check(not os.path.exists(empty), "a failed `lobe study` created its --out folder")
+# A scene whose volume file is corrupt fails after the folder was made: nothing is left behind.
+with open(one, encoding="utf-8") as f:
+    text = f.read().replace("../../brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz", "corrupt.nii.gz")
+with open(os.path.join(work, "corrupt.nii.gz"), "wb") as f:
+    f.write(b"not a NIfTI file")
+with open(os.path.join(work, "rendering-99.json"), "w", encoding="utf-8") as f:
+    f.write(text.replace("../../cthead/", os.path.join(source, "assets", "cthead") + "/")
+                .replace("../../brain/", os.path.join(source, "assets", "brain") + "/"))
+lobe_error(["study", os.path.join(paper, "rendering-08.json"), os.path.join(work, "rendering-99.json"),
+            "--out", empty, "--width", "64", "--spp", "1", "--quiet"], "corrupt.nii.gz")
+check(not os.path.exists(empty), "a `lobe study` failing in its render left " + str(
+    os.listdir(empty) if os.path.exists(empty) else ""))
 
 # An existing study is never overwritten.
 folder = os.path.join(work, "study")
