@@ -43,6 +43,15 @@ std::string safeName(const std::string& id) {
     return s.empty() ? "participant" : s;
 }
 
+// The name in a Host header ("127.0.0.1:8080" → "127.0.0.1", "[::1]:8080" → "::1").
+std::string hostName(const std::string& header) {
+    if (!header.empty() && header[0] == '[') {
+        const size_t close = header.find(']');
+        return close == std::string::npos ? header : header.substr(1, close - 1);
+    }
+    return header.substr(0, header.rfind(':'));
+}
+
 void refuse(httplib::Response& res, int status, const std::string& message) {
     res.status = status;
     res.set_content(message + "\n", "text/plain");
@@ -101,12 +110,18 @@ void serveStudy(const StudyServerOptions& options) {
 
     httplib::Server server;
     server.set_payload_max_length(kMaxAnswersBytes);
-    std::string origin;  // http://HOST:PORT once bound
     std::mutex saving;
     server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
         using Handled = httplib::Server::HandlerResponse;
         if (req.target.find("..") != std::string::npos || req.path.find("..") != std::string::npos) {
             refuse(res, 403, "paths with '..' are refused");
+            return Handled::Handled;
+        }
+        // On loopback, the browser must have asked for a loopback name: a page of another site
+        // whose name was re-pointed at 127.0.0.1 (DNS rebinding) sends its own name as Host.
+        const std::string hostHeader = req.get_header_value("Host");
+        if (!options.allowRemote && !isLoopbackHost(hostName(hostHeader))) {
+            refuse(res, 403, "requests for host '" + hostHeader + "' are refused");
             return Handled::Handled;
         }
         if (req.method == "GET" || req.method == "HEAD") {
@@ -127,7 +142,9 @@ void serveStudy(const StudyServerOptions& options) {
             refuse(res, 405, "only GET of the page's files and POST /answers");
             return Handled::Handled;
         }
-        if (req.has_header("Origin") && req.get_header_value("Origin") != origin) {
+        // Same origin only: the page that posts was loaded from this server (by the name the
+        // browser used for it, e.g. localhost or 127.0.0.1).
+        if (req.has_header("Origin") && req.get_header_value("Origin") != "http://" + hostHeader) {
             refuse(res, 403, "answers are accepted from the study's own page only");
             return Handled::Handled;
         }
@@ -177,7 +194,7 @@ void serveStudy(const StudyServerOptions& options) {
     }
     const std::string hostPart = options.host.find(':') != std::string::npos ? "[" + options.host + "]"
                                                                             : options.host;
-    origin = "http://" + hostPart + ":" + std::to_string(port);
+    const std::string origin = "http://" + hostPart + ":" + std::to_string(port);
     std::printf("serving %s/ (answers into %s; Ctrl-C stops)\n", origin.c_str(),
                 answersDir.string().c_str());
     std::fflush(stdout);

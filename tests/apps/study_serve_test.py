@@ -72,6 +72,12 @@ try:
                            dict(json_headers, Origin=server.origin))
     check(status == 200 and json.loads(body)["saved"] == "answers/sim-0-2.json",
           "second POST -> %d %r" % (status, body))
+    # The page loaded as http://localhost:PORT posts with that origin: accepted.
+    localhost = "localhost:%d" % server.port
+    status, body = request("POST", "/answers", answers.replace('"sim-0"', '"sim-0"'),
+                           dict(json_headers, Host=localhost, Origin="http://" + localhost))
+    check(status == 200 and json.loads(body)["saved"] == "answers/sim-0-3.json",
+          "POST from localhost -> %d %r" % (status, body))
     with open(os.path.join(folder, "answers", "sim-0.json"), encoding="utf-8") as f:
         check(f.read() == answers, "stored answers differ from the posted ones")
     # Refused: another origin, another study, missing trials, not JSON, a '..' path.
@@ -82,12 +88,16 @@ try:
         ("POST", "/answers", "{not json", json_headers, 400),
         ("POST", "/../answers", answers, json_headers, 403),
         ("POST", "/index.html", answers, json_headers, 405),
+        # DNS rebinding: another site's name pointed at 127.0.0.1, its page reading or posting.
+        ("GET", "/", None, {"Host": "evil.example:%d" % server.port}, 403),
+        ("POST", "/answers", answers, dict(json_headers, Host="evil.example:%d" % server.port,
+                                           Origin="http://evil.example:%d" % server.port), 403),
     ]
     for method, path, body, headers, expected in refused:
         status, _ = request(method, path, body, headers)
         check(status == expected, "%s %s -> %d, expected %d" % (method, path, status, expected))
     stored = sorted(os.listdir(os.path.join(folder, "answers")))
-    check(stored == ["sim-0-2.json", "sim-0.json"], "answers folder holds %s" % stored)
+    check(stored == ["sim-0-2.json", "sim-0-3.json", "sim-0.json"], "answers folder holds %s" % stored)
 finally:
     server.stop()
 print("ok")
