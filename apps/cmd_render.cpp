@@ -7,6 +7,7 @@
 #include "apps/cost_report.h"
 #include "apps/figure_output.h"
 #include "apps/output_folder.h"
+#include "apps/render_batch.h"
 #include "apps/scene_overrides.h"
 #include "render/framing.h"
 #include "render/render_scene.h"
@@ -49,6 +50,7 @@ struct RenderCommand {
     int orbit = 0;              // --orbit N: each scene as N turntable frames (render/framing.h)
     bool stats = false;         // print CPU time by part and BRDF evaluations per object
     FigureOptions figure;       // -o, --exr, --png-bits, --background (apps/figure_output.h)
+    std::vector<RenderedImage>* rendered = nullptr;  // renderBatch: the images written
 };
 
 // --shard i/N → (i, N); N = 0 when not sharding.
@@ -456,6 +458,7 @@ void runRender(const RenderCommand& cmd) {
                 std::fflush(stdout);
             }
             if (inSheet) sheets[spec.group].push_back({rgb, spec.title});
+            if (cmd.rendered) cmd.rendered->push_back({spec.path, spec.title, base});
         } catch (const cluster::CollectiveError& e) {
             // A scene that failed to load on some process: every process skips it.
             if (!cmd.keepGoing) throw;
@@ -587,6 +590,21 @@ void runMerge(const RenderCommand& cmd) {
 }
 
 }  // namespace
+
+std::vector<RenderedImage> renderBatch(const RenderBatchRequest& request) {
+    RenderCommand cmd;
+    cmd.inputs = request.scenes;
+    cmd.outDir = request.outDir;
+    cmd.overrides = request.overrides;
+    cmd.orbit = request.orbit;
+    cmd.aov = request.aov;
+    cmd.quiet = request.quiet;
+    cmd.noContactSheets = true;
+    std::vector<RenderedImage> rendered;
+    cmd.rendered = &rendered;
+    runRender(cmd);
+    return rendered;
+}
 
 namespace {
 

@@ -18,5 +18,6 @@ void registerConvertCommand(CLI::App& app);
 void registerSeparationCommand(CLI::App& app);
 void registerAssignCommand(CLI::App& app);
 void registerCostCommand(CLI::App& app);
+void registerStudyCommand(CLI::App& app);
 
 }  // namespace lobe

@@ -42,6 +42,7 @@ int run(int argc, char** argv) {
     lobe::registerCostCommand(app);
     lobe::registerInfoCommand(app);
     lobe::registerConvertCommand(app);
+    lobe::registerStudyCommand(app);
 
     try {
         app.parse(argc, argv);

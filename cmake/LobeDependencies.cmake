@@ -7,6 +7,10 @@ find_package(embree 3 CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(nlohmann_json 3 CONFIG REQUIRED)
 find_package(ZLIB REQUIRED)
+# cpp-httplib (Debian libcpp-httplib-dev) for `lobe study serve`: Debian builds it as a library
+# (libcpp-httplib.so) whose pkg-config flags select its TLS/compression options; use them.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
 
 # Debian ships FindOpenVDB.cmake outside CMake's default module path.
 list(APPEND CMAKE_MODULE_PATH /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB)
