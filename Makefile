@@ -33,7 +33,8 @@ FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_nifti fuzz_nrrd fuzz_raw fuzz_vdb fuzz_scene fuzz_brdf_line
 FUZZ_QUICK_TARGETS := nifti nrrd raw vdb scene brdf_line
 SAN_TESTS := core_tests dvr_tests materials_tests overlap_tests render_tests shading_tests \
-  surface_unit_tests volume_limits_tests volume_tests image_io_tests framing_tests dicom_tests
+  surface_unit_tests volume_limits_tests volume_tests image_io_tests framing_tests dicom_tests \
+  study_tests
 san-build: setup
 	@CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
