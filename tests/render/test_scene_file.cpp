@@ -270,7 +270,7 @@ TEST(SceneFile, TooManyLightsAreRefusedByNumber) {
     std::string text = validScene();
     const std::string one = "\"lights\": [{\"position\": [1, 2, 3], \"intensity\": [1, 2, 3]}]";
     text.replace(text.find(one), one.size(), lights);
-    EXPECT_EQ(errorOf(text), "scene.json: lights: 1025 lights; a scene holds at most 1024");
+    EXPECT_EQ(errorOf(text), "scene.json: lights: more than 1024 lights; a scene holds at most 1024");
 }
 
 }  // namespace lobe
