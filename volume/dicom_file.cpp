@@ -10,8 +10,11 @@
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmReader.h>
+#include <gdcmTrace.h>
 #include <gdcmTransferSyntax.h>
 #include <gdcmUIDs.h>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,8 +23,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -44,6 +49,89 @@ bool isDicomInput(const std::string& path) {
 namespace {
 
 using Vec3d = std::array<double, 3>;
+
+// What GDCM says while it reads, caught instead of printed: its own warnings and errors
+// (gdcm::Trace, several lines each with its source position) and those of the libjpeg it
+// decodes JPEG with, which go straight to the process's standard error ("Corrupt JPEG data:
+// ..."). Both are global, so one capture at a time (GDCM's trace streams are process-wide). A
+// damaged file then gives Lobe's one error line with GDCM's words folded in, and a sound one
+// prints nothing. Standard error is redirected to an unnamed temporary file only while GDCM runs
+// (nothing else of Lobe prints while volumes load).
+class GdcmMessages {
+public:
+    GdcmMessages() : lock_(mutex()) {
+        gdcm::Trace::SetWarningStream(trace_);
+        gdcm::Trace::SetErrorStream(trace_);
+        std::fflush(stderr);
+        file_ = std::tmpfile();
+        saved_ = file_ ? ::dup(2) : -1;
+        if (saved_ >= 0 && ::dup2(::fileno(file_), 2) < 0) {
+            ::close(saved_);
+            saved_ = -1;
+        }
+    }
+    ~GdcmMessages() {
+        restore();
+        if (file_) std::fclose(file_);
+        gdcm::Trace::SetWarningStream(std::cerr);
+        gdcm::Trace::SetErrorStream(std::cerr);
+    }
+    GdcmMessages(const GdcmMessages&) = delete;
+    GdcmMessages& operator=(const GdcmMessages&) = delete;
+
+    // Everything said since the last call, as one line: GDCM's messages without their source
+    // positions ("Warning: In FILE, line N, function F"), each once, "; " between them.
+    std::string take() {
+        std::fflush(stderr);
+        std::string raw = trace_.str();
+        trace_.str("");
+        if (file_) {
+            std::fflush(file_);
+            const long end = std::ftell(file_);
+            if (end > 0) {
+                std::string text(size_t(end), '\0');
+                std::rewind(file_);
+                text.resize(std::fread(text.data(), 1, text.size(), file_));
+                raw += "\n" + text;
+                std::rewind(file_);
+                if (::ftruncate(::fileno(file_), 0) != 0) raw += "";
+            }
+        }
+        std::vector<std::string> said;
+        std::istringstream lines(raw);
+        for (std::string line; std::getline(lines, line);) {
+            while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+            if (line.empty() || line.rfind("Warning: In ", 0) == 0 || line.rfind("Error: In ", 0) == 0 ||
+                line.rfind("Debug: In ", 0) == 0)
+                continue;
+            if (std::find(said.begin(), said.end(), line) == said.end()) said.push_back(line);
+        }
+        std::string out;
+        for (const std::string& l : said) out += (out.empty() ? "" : "; ") + l;
+        if (out.size() > 240) out = out.substr(0, 237) + "...";
+        return out;
+    }
+
+private:
+    static std::mutex& mutex() {
+        static std::mutex m;
+        return m;
+    }
+    void restore() {
+        if (saved_ < 0) return;
+        std::fflush(stderr);
+        ::dup2(saved_, 2);
+        ::close(saved_);
+        saved_ = -1;
+    }
+    std::lock_guard<std::mutex> lock_;
+    std::ostringstream trace_;
+    std::FILE* file_ = nullptr;
+    int saved_ = -1;
+};
+
+// " (GDCM: what it said)", or "" when it said nothing.
+std::string gdcmSaid(const std::string& said) { return said.empty() ? "" : " (GDCM: " + said + ")"; }
 
 // What the first pass keeps of one file.
 struct SliceHeader {
@@ -128,8 +216,10 @@ std::string vecText(const Vec3d& v, int n = 3) {
 SliceHeader readHeader(const std::string& path) {
     gdcm::Reader reader;
     reader.SetFileName(path.c_str());
+    GdcmMessages messages;  // the header's warnings are not printed: a damaged header fails below
     if (!reader.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010)))
-        throw Error(path + ": GDCM cannot read this DICOM file (damaged, or not a DICOM data set)");
+        throw Error(path + ": GDCM cannot read this DICOM file (damaged, or not a DICOM data set)" +
+                    gdcmSaid(messages.take()));
     const gdcm::File& file = reader.GetFile();
     const gdcm::DataSet& ds = file.GetDataSet();
     SliceHeader h;
@@ -198,6 +288,7 @@ bool isDicomDir(const std::string& path) {
     // 1.2.840.10008.1.3.10. Read its meta header only.
     gdcm::Reader reader;
     reader.SetFileName(path.c_str());
+    GdcmMessages messages;  // not printed: the header pass reports a file GDCM cannot read
     if (!reader.ReadUpToTag(gdcm::Tag(0x0008, 0x0000))) return false;
     return text(reader.GetFile().GetHeader(), 0x0002, 0x0002) == "1.2.840.10008.1.3.10";
 }
@@ -387,8 +478,16 @@ std::vector<SliceHeader> chooseSeries(const std::string& where,
 void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
     gdcm::ImageReader reader;
     reader.SetFileName(h.path.c_str());
+    GdcmMessages messages;
     if (!reader.Read())
-        throw Error(h.path + ": GDCM cannot read the image (transfer syntax " + h.transferSyntax + ")");
+        throw Error(h.path + ": GDCM cannot read the image (transfer syntax " + h.transferSyntax + ")" +
+                    gdcmSaid(messages.take()));
+    // What GDCM says while reading the pixel data is damage it worked around: a file cut short
+    // ("Incomplete Pixel Data found, use file at own risk", the rest zero-filled). Other warnings
+    // (about the header) are dropped.
+    const std::string readSaid = messages.take();
+    if (readSaid.find("Pixel Data") != std::string::npos)
+        throw Error(h.path + ": the pixel data is damaged or cut short (GDCM: " + readSaid + ")");
     const gdcm::Image& image = reader.GetImage();
     const gdcm::PixelFormat& pf = image.GetPixelFormat();
     if (image.GetDimension(0) != unsigned(h.columns) || image.GetDimension(1) != unsigned(h.rows))
@@ -410,11 +509,30 @@ void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
         throw Error(h.path + ": the decoded image holds " + std::to_string(image.GetBufferLength()) +
                     " bytes, expected " + std::to_string(bytes) + " for " + std::to_string(h.columns) +
                     "x" + std::to_string(h.rows) + " pixels of " + std::to_string(allocated) + " bits");
+    // Uncompressed pixel data must hold every pixel: GDCM zero-fills a short element (PS3.5
+    // A.4: only encapsulated pixel data is fragmented; native data is one value of the full size).
+    const gdcm::DataElement& pixelData =
+        reader.GetFile().GetDataSet().GetDataElement(gdcm::Tag(0x7fe0, 0x0010));
+    if (!pixelData.GetSequenceOfFragments()) {
+        const gdcm::ByteValue* value = pixelData.GetByteValue();
+        const size_t held = value ? size_t(value->GetLength()) : 0;
+        if (held < bytes)
+            throw Error(h.path + ": the pixel data holds " + std::to_string(held) + " bytes, expected " +
+                        std::to_string(bytes) + " for " + std::to_string(h.columns) + "x" +
+                        std::to_string(h.rows) + " pixels of " + std::to_string(allocated) +
+                        " bits (the file is damaged or cut short)");
+    }
     std::vector<char> buffer(bytes);
     if (!image.GetBuffer(buffer.data()))
         throw Error(h.path + ": GDCM cannot decode the pixel data (transfer syntax " +
                     h.transferSyntax + "); convert the series to an uncompressed transfer syntax "
-                    "first, e.g. with gdcmconv --raw");
+                    "first, e.g. with gdcmconv --raw" + gdcmSaid(messages.take()));
+    // Any message while decoding is a decoder working around damage ("Corrupt JPEG data: ...",
+    // "Requesting too much data. Truncating result"): its pixels are not the image.
+    const std::string decodeSaid = messages.take();
+    if (!decodeSaid.empty())
+        throw Error(h.path + ": the pixel data is damaged: it does not decode cleanly (transfer syntax " +
+                    h.transferSyntax + "; GDCM: " + decodeSaid + ")");
     // GetBuffer gives the stored values in the machine's byte order. Keep the low BitsStored
     // bits and sign-extend them when PixelRepresentation is 1 (two's complement, PS3.5 8.1.1).
     const std::uint64_t mask = stored == 64 ? ~0ull : ((1ull << stored) - 1);
