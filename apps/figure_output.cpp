@@ -165,10 +165,10 @@ void writeGalleryFiles(const std::string& base, const Gallery& gallery,
                        const GalleryOptions& options) {
     ImageWriteOptions write;
     write.attributes = galleryProvenance(options);
-    PendingImage png = writeImagePending(base + ".png", labelledGalleryImage(gallery), write);
-    PendingImage exr = writeFilmPending(base + ".exr", gallery.film, 1.0, {}, write);
-    png.commit();
-    exr.commit();
+    std::vector<PendingImage> files;
+    files.push_back(writeImagePending(base + ".png", labelledGalleryImage(gallery), write));
+    files.push_back(writeFilmPending(base + ".exr", gallery.film, 1.0, {}, write));
+    PendingImage::commitAll(files);
 }
 
 ImageAttributes sheetProvenance(const std::vector<std::string>& captions) {
@@ -302,7 +302,7 @@ FigureResult FigureWriter::finish() {
     // when all exist.
     std::vector<PendingImage> pending;
     for (const auto& file : m.files) pending.push_back(file->finish());
-    for (PendingImage& p : pending) p.commit();
+    PendingImage::commitAll(pending);
     FigureResult result;
     if (m.thumb) result.display = m.thumb->result();
     result.covered = m.covered;
