@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/stderr_capture.h"
 
 #include <gdcmAttribute.h>
 #include <gdcmImage.h>
@@ -13,8 +14,6 @@
 #include <gdcmTrace.h>
 #include <gdcmTransferSyntax.h>
 #include <gdcmUIDs.h>
-
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +25,6 @@
 #include <iostream>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -53,26 +51,16 @@ using Vec3d = std::array<double, 3>;
 // What GDCM says while it reads, caught instead of printed: its own warnings and errors
 // (gdcm::Trace, several lines each with its source position) and those of the libjpeg it
 // decodes JPEG with, which go straight to the process's standard error ("Corrupt JPEG data:
-// ..."). Both are global, so one capture at a time (GDCM's trace streams are process-wide). A
+// ...", caught by core/stderr_capture.h). Both are process-wide, so one capture at a time. A
 // damaged file then gives Lobe's one error line with GDCM's words folded in, and a sound one
-// prints nothing. Standard error is redirected to an unnamed temporary file only while GDCM runs
-// (nothing else of Lobe prints while volumes load).
+// prints nothing.
 class GdcmMessages {
 public:
-    GdcmMessages() : lock_(mutex()) {
+    GdcmMessages() {
         gdcm::Trace::SetWarningStream(trace_);
         gdcm::Trace::SetErrorStream(trace_);
-        std::fflush(stderr);
-        file_ = std::tmpfile();
-        saved_ = file_ ? ::dup(2) : -1;
-        if (saved_ >= 0 && ::dup2(::fileno(file_), 2) < 0) {
-            ::close(saved_);
-            saved_ = -1;
-        }
     }
     ~GdcmMessages() {
-        restore();
-        if (file_) std::fclose(file_);
         gdcm::Trace::SetWarningStream(std::cerr);
         gdcm::Trace::SetErrorStream(std::cerr);
     }
@@ -82,21 +70,8 @@ public:
     // Everything said since the last call, as one line: GDCM's messages without their source
     // positions ("Warning: In FILE, line N, function F"), each once, "; " between them.
     std::string take() {
-        std::fflush(stderr);
-        std::string raw = trace_.str();
+        std::string raw = trace_.str() + "\n" + stderr_.take();
         trace_.str("");
-        if (file_) {
-            std::fflush(file_);
-            const long end = std::ftell(file_);
-            if (end > 0) {
-                std::string text(size_t(end), '\0');
-                std::rewind(file_);
-                text.resize(std::fread(text.data(), 1, text.size(), file_));
-                raw += "\n" + text;
-                std::rewind(file_);
-                if (::ftruncate(::fileno(file_), 0) != 0) raw += "";
-            }
-        }
         std::vector<std::string> said;
         std::istringstream lines(raw);
         for (std::string line; std::getline(lines, line);) {
@@ -113,21 +88,8 @@ public:
     }
 
 private:
-    static std::mutex& mutex() {
-        static std::mutex m;
-        return m;
-    }
-    void restore() {
-        if (saved_ < 0) return;
-        std::fflush(stderr);
-        ::dup2(saved_, 2);
-        ::close(saved_);
-        saved_ = -1;
-    }
-    std::lock_guard<std::mutex> lock_;
+    StderrCapture stderr_;  // first: its lock serialises the trace streams' use too
     std::ostringstream trace_;
-    std::FILE* file_ = nullptr;
-    int saved_ = -1;
 };
 
 // " (GDCM: what it said)", or "" when it said nothing.
@@ -592,6 +554,16 @@ DenseVolume readDicomDense(const std::vector<std::string>& inputs, const std::st
     for (size_t k = 0; k < slices.size(); ++k) decodeSlice(slices[k], v.values.data() + k * perSlice, lo, hi);
     v.min = lo;
     v.max = hi;
+    if (slices.size() == 1) {
+        std::ostringstream note;
+        note << first.path << ": a single slice, drawn as a slab " << std::sqrt(dot(step, step))
+             << " mm thick ("
+             << (first.spacingBetweenSlices > 0.0 ? "SpacingBetweenSlices"
+                 : first.sliceThickness > 0.0     ? "SliceThickness"
+                                                  : "no thickness given: 1 mm")
+             << "); give the folder of the whole series for a volume";
+        v.note = note.str();
+    }
 
     // C.7.6.2.1.1, equation C.7.6.2.1-1: columns X·Δi (Δi = column spacing, PixelSpacing[1]),
     // Y·Δj (Δj = row spacing, PixelSpacing[0]), the slice step, and S of the first slice — in

@@ -257,6 +257,10 @@ TEST(Dicom, ADicomFileIsNeverReadAsRawVoxels) {
     const Volume one = loadVolume(renamed.string());
     EXPECT_EQ(one.dims, (std::array<int, 3>{5, 4, 1}));
     EXPECT_NEAR(one.spacing[2], 2.5, 1e-9);  // one slice: SliceThickness
+    // ... which `lobe render` warns of (it rendered as a slab without a word).
+    EXPECT_EQ(one.note, renamed.string() + ": a single slice, drawn as a slab 2.5 mm thick "
+                        "(SliceThickness); give the folder of the whole series for a volume");
+    EXPECT_EQ(loadVolume(at("ct")).note, "");
     // A raw layout given for a DICOM file or folder is an error, not a reinterpretation.
     LoadOptions raw;
     raw.hasLayout = true;
