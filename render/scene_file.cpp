@@ -157,6 +157,15 @@ std::string resolvePath(const std::string& p, const std::string& baseDir) {
     return path.is_absolute() ? p : (fs::path(baseDir) / path).lexically_normal().string();
 }
 
+// "" when `p` can be reached; otherwise why not, to follow the quoted path — " does not exist",
+// or ": " and the system's reason (a symbolic link loop: "Too many levels of symbolic links") —
+// never an exception.
+std::string unreachable(const std::string& p) {
+    std::error_code ec;
+    if (fs::exists(p, ec)) return "";
+    return ec ? ": " + ec.message() : " does not exist";
+}
+
 VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
     VolumeSourceSpec s;
     // "path": one file or folder; or an array of files, the slices of one DICOM series.
@@ -166,7 +175,8 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
         for (const Json& item : list) {
             if (!item.is_string()) r.fail(r.at("path"), "expected a list of file names, got " + item.dump());
             const std::string p = resolvePath(item.get<std::string>(), baseDir);
-            if (!fs::exists(p)) r.fail(r.at("path"), "file '" + p + "' does not exist");
+            const std::string why = unreachable(p);
+            if (!why.empty()) r.fail(r.at("path"), "file '" + p + "'" + why);
             if (s.path.empty())
                 s.path = p;
             else
@@ -174,7 +184,8 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
         }
     } else {
         s.path = resolvePath(r.requiredString("path"), baseDir);
-        if (!fs::exists(s.path)) r.fail(r.at("path"), "file '" + s.path + "' does not exist");
+        const std::string why = unreachable(s.path);
+        if (!why.empty()) r.fail(r.at("path"), "file '" + s.path + "'" + why);
     }
     s.series = r.string("series", "");
     if (r.has("dims")) {
@@ -640,7 +651,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
                 PinholeCamera(scene.cameraPosition, scene.cameraTarget, scene.cameraUp,
                               scene.fovDegrees, double(scene.width) / scene.height, scene.crop);
             } catch (const Error& e) {
-                r.fail("camera", e.what());
+                std::string what = e.what();  // "camera: …": the key is named once
+                if (what.rfind("camera: ", 0) == 0) what.erase(0, 8);
+                r.fail("camera", what);
             }
         } else if (!(scene.cameraUp.length() > 0.0)) {
             cam.fail(cam.at("up"), "must not be the zero vector");
@@ -731,7 +744,12 @@ SceneSpec loadSceneFile(const std::string& path) {
                         "volumes, camera and lights (docs/scene-format.md; "
                         "assets/scenes/paper/rendering-01.json is an example); `lobe info` "
                         "describes a volume");
-    if (fs::is_directory(path)) throw Error("'" + path + "' is a folder, not a scene file");
+    {
+        std::error_code ec;
+        if (fs::is_directory(path, ec)) throw Error("'" + path + "' is a folder, not a scene file");
+        const std::string why = unreachable(path);
+        if (!why.empty()) throw Error("scene file '" + path + "'" + why);
+    }
     {  // A DICOM file by its magic ('DICM' at byte 128, PS3.10 7.1), whatever its name.
         std::ifstream probe(path, std::ios::binary);
         char magic[4] = {};

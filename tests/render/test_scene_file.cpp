@@ -473,3 +473,19 @@ TEST_F(TfPercentiles, BadTextAndDisorderAreNamed) {
 
 }  // namespace
 }  // namespace lobe
+
+namespace lobe {
+
+// The camera's own check names the key once ("camera: camera: ..." before).
+TEST(SceneFile, CameraErrorNamesTheKeyOnce) {
+    std::string text = validScene();
+    const size_t at = text.find("\"target\"");
+    ASSERT_NE(at, std::string::npos);
+    const size_t open = text.find('[', at), close = text.find(']', at);
+    const size_t pos = text.find("\"position\"");
+    const std::string position = text.substr(text.find('[', pos), text.find(']', pos) - text.find('[', pos) + 1);
+    text.replace(open, close - open + 1, position);
+    EXPECT_EQ(errorOf(text), "scene.json: camera: position and target are the same point");
+}
+
+}  // namespace lobe
