@@ -32,6 +32,21 @@ namespace fs = std::filesystem;
 
 bool isFloatFormat(const std::string& ext) { return ext == ".exr"; }
 
+// OpenImageIO's error text as one line: it holds one line per message (a damaged PNG: "Read
+// error: hit end of file", "PNG read error: IDAT: ...", "PNG library error"), joined by "; ".
+std::string oneLine(const std::string& text) {
+    std::string out, line;
+    for (size_t i = 0; i <= text.size(); ++i) {
+        if (i == text.size() || text[i] == '\n') {
+            if (!line.empty()) out += (out.empty() ? "" : "; ") + line;
+            line.clear();
+        } else {
+            line += text[i];
+        }
+    }
+    return out;
+}
+
 // A 64-bit hash of a sequence of samples, eight bytes at a time: what an integer file read back
 // is compared with, so the check needs no copy of the whole image.
 class SampleHash {
@@ -222,8 +237,8 @@ ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
         if (!m.jpegFile->ok()) m.fail(m.jpegFile->error());
     } else {
         m.output = OIIO::ImageOutput::create(m.temporary);
-        if (!m.output) m.fail(OIIO::geterror());
-        if (!m.output->open(m.temporary, m.spec)) m.fail(m.output->geterror());
+        if (!m.output) m.fail(oneLine(OIIO::geterror()));
+        if (!m.output->open(m.temporary, m.spec)) m.fail(oneLine(m.output->geterror()));
     }
     m.open = true;
 }
@@ -302,7 +317,7 @@ void ImageBandWriter::write(int rows, const float* data, const float* alpha) {
         if (rows > 0 && !m.jpegFile->write(m.bytes.data(), rows)) m.fail(m.jpegFile->error());
     } else if (rows > 0 &&
                !m.output->write_scanlines(m.nextRow, m.nextRow + rows, 0, m.spec.format, pixels)) {
-        m.fail(m.output->geterror());
+        m.fail(oneLine(m.output->geterror()));
     }
     m.nextRow += rows;
 }
@@ -315,7 +330,7 @@ PendingImage ImageBandWriter::finish() {
                " rows written");
     m.open = false;
     const bool closed = m.jpegFile ? m.jpegFile->finish() : m.output->close();
-    const std::string error = closed ? "" : m.jpegFile ? m.jpegFile->error() : m.output->geterror();
+    const std::string error = closed ? "" : m.jpegFile ? m.jpegFile->error() : oneLine(m.output->geterror());
     m.output.reset();
     m.jpegFile.reset();
     if (!closed) m.fail(error);
@@ -494,7 +509,7 @@ FloatImage readFloatImage(const std::string& path) {
     // not printed beside Lobe's error, which names the file and says the same.
     StderrCapture quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     FloatImage image;
     image.width = spec.width;
@@ -502,7 +517,7 @@ FloatImage readFloatImage(const std::string& path) {
     image.channels.names = spec.channelnames;
     image.channels.data.resize(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.channels.data.data()))
-        throw Error("cannot read image '" + path + "': " + in->geterror());
+        throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
     for (const OIIO::ParamValue& p : spec.extra_attribs) {
         const std::string name = p.name().string();
         if (name.rfind("lobe:", 0) == 0 && p.type() == OIIO::TypeDesc::STRING)
@@ -523,7 +538,7 @@ ImageAttributes readImageAttributes(const std::string& path) {
     // not printed beside Lobe's error, which names the file and says the same.
     StderrCapture quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     ImageAttributes attributes;
     for (const OIIO::ParamValue& p : in->spec().extra_attribs)
         if (p.type() == OIIO::TypeDesc::STRING) attributes[p.name().string()] = p.get_string();
@@ -533,7 +548,7 @@ ImageAttributes readImageAttributes(const std::string& path) {
 void forEachRgbBand(const std::string& path, long long bandPixels,
                     const std::function<void(RgbImage&, int)>& fn) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     int channel[3];
     for (int c = 0; c < 3; ++c) {
@@ -553,7 +568,7 @@ void forEachRgbBand(const std::string& path, long long bandPixels,
         rows.resize(size_t(spec.width) * size_t(y1 - y0) * size_t(count));
         if (!in->read_scanlines(0, 0, y0, y1, 0, first, first + count, OIIO::TypeDesc::FLOAT,
                                 rows.data()))
-            throw Error("cannot read image '" + path + "': " + in->geterror());
+            throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
         RgbImage band(spec.width, y1 - y0);
         for (size_t p = 0; p < size_t(spec.width) * size_t(y1 - y0); ++p)
             for (int c = 0; c < 3; ++c)
@@ -567,11 +582,11 @@ RgbImage readImage(const std::string& path) {
     // not printed beside Lobe's error, which names the file and says the same.
     StderrCapture quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
-        throw Error("cannot read image '" + path + "': " + in->geterror());
+        throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
     const bool encoded = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
     RgbImage image(spec.width, spec.height);
     for (size_t i = 0, n = size_t(spec.width) * spec.height; i < n; ++i)

@@ -249,7 +249,7 @@ TEST(Cli, ADamagedPngIsOneErrorLine) {
 // currently limited").
 TEST(Cli, ManyThreadsUnderQuietPrintNothing) {
     const fs::path d = testDir();
-    const CliRun r = lobe("gallery --cell 8 --spp 1 --quiet --threads 64 --out " + quote(d.string()));
+    const CliRun r = lobe("gallery --cell 16 --spp 1 --quiet --threads 64 --out " + quote(d.string()));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err, "");
 }
