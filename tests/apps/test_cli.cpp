@@ -519,6 +519,20 @@ std::string ballScene(const fs::path& folder, double radius) {
     return (folder / "ball.json").string();
 }
 
+// `lobe info --histogram` of a volume mostly 0 (a skull-stripped brain's background): the bars
+// are scaled without the bin of 0, whose bar is cut ('>'); scaled by it, the data's bins were
+// nearly empty. The ball: 552 voxels of 200, 3544 of 0.
+TEST(Cli, InfoHistogramIsNotScaledByTheBackground) {
+    const fs::path d = testDir();
+    ballScene(d, 5.0);
+    const CliRun r = lobe("info " + quote((d / "ball.raw").string()) +
+                          " --dims 16,16,16 --type uint8 --histogram --bins 4");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("bars scaled without the bin of 0, whose bar is cut (>)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("3544   86.52 %  " + std::string(40, '#') + ">\n"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("552   13.48 %  " + std::string(40, '#') + "\n"), std::string::npos) << r.out;
+}
+
 // Parts rendered from different volume data (the file re-exported between two array tasks)
 // are refused by `lobe merge`, naming the part and the file: each part's header carries a
 // content hash of every volume it loaded. Only the scene text and settings were compared, and
