@@ -7,6 +7,7 @@
 #include "core/image_text.h"
 #include "core/math.h"
 #include "core/spectrum.h"
+#include "core/temporary_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -75,14 +76,6 @@ std::vector<float> lobeIntensity(const LatticeSet& set, int model, int primitive
     const float scale = lit[k] > 0.0f ? 1.0f / lit[k] : 0.0f;
     for (float& x : v) x = std::min(1.0f, x * scale);
     return v;
-}
-
-std::string temporarySibling(const std::string& path) {
-    const fs::path p(path);
-    std::random_device rd;
-    return (p.parent_path() / ("." + p.filename().string() + ".partial-" +
-                               std::to_string(rd() % 1000000)))
-        .string();
 }
 
 }  // namespace
@@ -204,7 +197,7 @@ std::string studyMarkdown(const std::vector<StudyRow>& rows) {
 }
 
 void writeTextFileAtomic(const std::string& path, const std::string& text) {
-    const std::string tmp = temporarySibling(path);
+    const std::string tmp = temporarySibling(path, false);
     {
         std::ofstream out(tmp, std::ios::binary);
         if (!out) throw Error("cannot write '" + path + "': cannot create a file in its folder");

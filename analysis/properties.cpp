@@ -11,6 +11,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <cmath>
 
@@ -104,14 +105,14 @@ constexpr int kPairsPerChunk = 4096;
 // returns max over bands of maxDiff/maxValue. `other(wi, wo, rng)` returns the value compared
 // with f(wi, wo).
 template <class Other>
-double relativeAsymmetry(const Brdf& brdf, int pairs, uint64_t seed, const Other& other) {
-    const int chunks = std::max(1, (pairs + kPairsPerChunk - 1) / kPairsPerChunk);
-    std::vector<AsymmetryChunk> results(chunks);
-    tbb::parallel_for(0, chunks, [&](int c) {
+double relativeAsymmetry(const Brdf& brdf, int64_t pairs, uint64_t seed, const Other& other) {
+    const int64_t chunks = std::max<int64_t>(1, (pairs + kPairsPerChunk - 1) / kPairsPerChunk);
+    std::vector<AsymmetryChunk> results(static_cast<size_t>(chunks));
+    tbb::parallel_for(int64_t(0), chunks, [&](int64_t c) {
         Rng rng(mixBits(seed ^ mixBits(uint64_t(c) + 1)), 7);
-        AsymmetryChunk& out = results[c];
-        const int end = std::min(pairs, (c + 1) * kPairsPerChunk);
-        for (int i = c * kPairsPerChunk; i < end; ++i) {
+        AsymmetryChunk& out = results[size_t(c)];
+        const int64_t end = std::min(pairs, (c + 1) * kPairsPerChunk);
+        for (int64_t i = c * kPairsPerChunk; i < end; ++i) {
             Vec3 wi, wo;
             samplePair(rng, (i & 1) != 0, wi, wo);
             const Spectrum a = evalBrdf(brdf, wi, wo);
@@ -189,13 +190,15 @@ int indexOf(const std::vector<double>& grid, double value) {
 
 }  // namespace
 
-SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI, int samples,
+SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI, int64_t samples,
                                    int replicas, uint64_t seed) {
     if (replicas < 2) throw Error("directionalAlbedo: at least 2 replicas are needed");
     const Vec3 wi = directionFromAngles(thetaI, phiI);
     const Frame frameR = Frame::fromNormal(mirrorLocal(wi));
     // A third of each replica's samples per component, at least one.
-    const int perComponent = std::max(1, samples / (3 * replicas));
+    // (--samples is bounded, so a component's count fits the strata's int.)
+    const int perComponent = int(std::clamp<int64_t>(samples / (3 * int64_t(replicas)), 1,
+                                                     std::numeric_limits<int>::max()));
     const StrataGrid grid = strataFor(perComponent);
     const auto pdfSum = [&](const Vec3& w) {
         return cosinePdf(w) + mirrorPdf(frameR.n, w) + halfVectorPdf(wi, w);
@@ -235,13 +238,13 @@ SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI,
     return out;
 }
 
-double reciprocityError(const Brdf& brdf, int pairs, uint64_t seed) {
+double reciprocityError(const Brdf& brdf, int64_t pairs, uint64_t seed) {
     return relativeAsymmetry(brdf, pairs, seed, [&](const Vec3& wi, const Vec3& wo, Rng&) {
         return evalBrdf(brdf, wo, wi);
     });
 }
 
-double anisotropyMeasure(const Brdf& brdf, int pairs, uint64_t seed) {
+double anisotropyMeasure(const Brdf& brdf, int64_t pairs, uint64_t seed) {
     return relativeAsymmetry(brdf, pairs, seed ^ 0xa5a5, [&](const Vec3& wi, const Vec3& wo,
                                                              Rng& rng) {
         const double psi = 2.0 * kPi * rng.uniform();
@@ -288,8 +291,9 @@ PropertyReport measureProperties(const ModelSetting& setting, const PropertyOpti
     const Brdf brdf = makeBrdf(setting.model, setting.settings);
     const double scale = sampleScale(setting.model);
     const int replicas = std::max(2, options.replicas);
-    const int samples = std::max(2 * replicas, int(std::lround(options.albedoSamples * scale)));
-    const int pairs = std::max(256, int(std::lround(options.pairs * scale)));
+    const int64_t samples =
+        std::max<int64_t>(2 * replicas, std::llround(double(options.albedoSamples) * scale));
+    const int64_t pairs = std::max<int64_t>(256, std::llround(double(options.pairs) * scale));
     const auto& thetas = albedoThetasDeg();
     const auto& phis = albedoPhisDeg();
 

@@ -42,17 +42,17 @@ struct SpectrumEstimate {
     Spectrum value;
     Spectrum stdError;
 };
-SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI, int samples,
+SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI, int64_t samples,
                                    int replicas, uint64_t seed);
 
 // max over bands of max |f(wi,wo) − f(wo,wi)| / max f, over `pairs` random pairs (wi uniform on
 // the upper hemisphere; wo half uniform, half from the mirror density above, so that many pairs lie
 // inside narrow lobes). Returns 0 when f is 0 for every pair.
-double reciprocityError(const Brdf& brdf, int pairs, uint64_t seed);
+double reciprocityError(const Brdf& brdf, int64_t pairs, uint64_t seed);
 
 // max over bands of max |f(R wi, R wo) − f(wi, wo)| / max f, with R a random rotation about n per
 // pair; pairs drawn as for reciprocityError. 0 for an isotropic model up to rounding.
-double anisotropyMeasure(const Brdf& brdf, int pairs, uint64_t seed);
+double anisotropyMeasure(const Brdf& brdf, int64_t pairs, uint64_t seed);
 
 // Decision thresholds (documented in docs/brdf-properties.md).
 // Relative asymmetry below which a model counts as reciprocal / isotropic: far above rounding of
@@ -83,9 +83,9 @@ std::vector<ModelSetting> propertySettings();
 double sampleScale(const std::string& model);
 
 struct PropertyOptions {
-    int albedoSamples = 8192;    // per (θi, φi) albedo estimate
-    int replicas = 16;           // independent replicas per albedo estimate
-    int pairs = 65536;           // pairs for reciprocity and anisotropy each
+    int64_t albedoSamples = 8192;  // per (θi, φi) albedo estimate
+    int replicas = 16;             // independent replicas per albedo estimate
+    int64_t pairs = 65536;         // pairs for reciprocity and anisotropy each
     uint64_t seed = 20030101;
 };
 

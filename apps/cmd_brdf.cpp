@@ -42,10 +42,17 @@ void evalModel(const std::string& name, const std::vector<std::string>& settings
         ++lineNumber;
         if (line.find_first_not_of(" \t\r") == std::string::npos) continue;  // blank line
         double v[6];
-        if (!parseSixNumbers(line, v))
+        if (!parseSixNumbers(line, v)) {
+            std::string shown;  // control characters (a NUL) shown as \xNN: the message is one line
+            for (unsigned char c : line) {
+                char hex[8];
+                std::snprintf(hex, sizeof hex, "\\x%02x", c);
+                shown += c < 32 || c == 127 ? std::string(hex) : std::string(1, char(c));
+            }
             throw Error("standard input line " + std::to_string(lineNumber) +
                         ": expected six comma-separated numbers wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, "
-                        "got '" + line + "'");
+                        "got '" + shown + "'");
+        }
         Vec3 wi, wo;
         if (!unitDirection(v[0], v[1], v[2], wi) || !unitDirection(v[3], v[4], v[5], wo))
             throw Error("standard input line " + std::to_string(lineNumber) +
@@ -60,7 +67,7 @@ void evalModel(const std::string& name, const std::vector<std::string>& settings
 struct PropsOptions {
     bool csv = false;
     bool perSetting = false;
-    int samples = 8192;
+    int64_t samples = 8192;
     int threads = 0;
     uint64_t seed = 20030101;
 };
@@ -200,7 +207,12 @@ void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
 }
 
 void measureAndPrint(const PropsOptions& o) {
-    if (o.samples < 64) throw Error("--samples " + std::to_string(o.samples) + ": must be ≥ 64");
+    // Bounded: 8 x samples pairs are drawn per setting, over 60 settings; 2^24 samples already
+    // take hours (an int count overflowed at 300 000 000 and the run never ended).
+    constexpr int64_t kMaxSamples = int64_t(1) << 24;
+    if (o.samples < 64 || o.samples > kMaxSamples)
+        throw Error("--samples " + std::to_string(o.samples) + ": expected 64 to " +
+                    std::to_string(kMaxSamples));
     if (o.threads < 0) throw Error("--threads " + std::to_string(o.threads) + ": must be ≥ 0");
     PropertyOptions options;
     options.albedoSamples = o.samples;
@@ -229,13 +241,13 @@ void measureAndPrint(const PropsOptions& o) {
                     "measurable, carried over).\n\n");
         printTable1(reports, false);
         std::printf("\n## Per setting\n\n");
-        std::printf("Albedo: %d samples per (θi, φi), θi ∈ {", o.samples);
+        std::printf("Albedo: %lld samples per (θi, φi), θi ∈ {", static_cast<long long>(o.samples));
         for (size_t i = 0; i < albedoThetasDeg().size(); ++i)
             std::printf("%s%g", i ? ", " : "", albedoThetasDeg()[i]);
         std::printf("}°, max over φi ∈ {0, 45, 90}° and the three bands; reciprocity and "
-                    "anisotropy over %d pairs; thresholds: reciprocal if error ≤ %g, anisotropic "
+                    "anisotropy over %lld pairs; thresholds: reciprocal if error ≤ %g, anisotropic "
                     "if measure > %g, a ≤ 1 and Fresnel decided at %g σ.\n\n",
-                    options.pairs, kReciprocityTolerance, kAnisotropyTolerance, kSigmaThreshold);
+                    static_cast<long long>(options.pairs), kReciprocityTolerance, kAnisotropyTolerance, kSigmaThreshold);
         printPerSetting(reports, false);
     }
     std::fprintf(stderr, "lobe brdf props: %zu settings measured in %.2f s\n", settings.size(),
@@ -272,7 +284,8 @@ void registerBrdfCommand(CLI::App& app) {
     props->add_flag("--per-setting", propsOptions.perSetting,
                     "with --csv: one row per measured setting instead of Table 1");
     props->add_option("--samples", propsOptions.samples,
-                      "albedo samples per (θi, φi) estimate (pairs for reciprocity/anisotropy: 8×)")
+                      "albedo samples per (θi, φi) estimate, 64 to 16777216 (pairs for "
+                      "reciprocity/anisotropy: 8×)")
         ->capture_default_str();
     props->add_option("--threads", propsOptions.threads, "worker threads (0: all)")
         ->capture_default_str();

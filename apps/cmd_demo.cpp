@@ -61,10 +61,10 @@ void runDemo(const DemoCommand& cmd) {
     write.attributes = provenance(spec);
     RgbImage rgb = filmToRgb(film, spec.exposure);
     applyTone(rgb, spec.tone);
-    PendingImage png = writeImagePending(base + ".png", rgb, write);
-    PendingImage exr = writeFilmPending(base + ".exr", film, spec.exposure, {}, write);
-    png.commit();
-    exr.commit();
+    std::vector<PendingImage> files;
+    files.push_back(writeImagePending(base + ".png", rgb, write));
+    files.push_back(writeFilmPending(base + ".exr", film, spec.exposure, {}, write));
+    PendingImage::commitAll(files);
 
     GalleryOptions gallery;
     gallery.threads = cmd.threads;

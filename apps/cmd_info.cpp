@@ -69,21 +69,34 @@ void printVolumeSummary(const VolumeSummary& s) {
                 double(s.memoryBytes) / 1e6, double(s.voxels) * 4.0 / 1e6);
     std::printf("load time       %.3f s\n", s.loadSeconds);
     if (!s.histogram.counts.empty()) {
-        // One row per bin: its value range, its voxels and a bar scaled to the fullest bin.
-        std::int64_t most = 1, total = 0;
-        for (std::int64_t c : s.histogram.counts) {
-            most = std::max(most, c);
-            total += c;
-        }
+        // One row per bin: its value range, its voxels and a bar scaled to the fullest bin — but
+        // the bin holding 0 (the background around a skull-stripped brain, say) is left out of
+        // the scale when it holds more than half the voxels: its bar is cut ('>'), or every
+        // other bar would be empty.
         const std::size_t n = s.histogram.counts.size();
-        std::printf("histogram       %zu bins over every voxel of the box\n", n);
+        const auto binOf = [&](double v) {
+            const double t = (v - s.histogram.lo) / (s.histogram.hi - s.histogram.lo);
+            return std::size_t(std::clamp(t * double(n), 0.0, double(n - 1)));
+        };
+        std::int64_t total = 0;
+        for (std::int64_t c : s.histogram.counts) total += c;
+        const bool zeroInside = s.histogram.lo <= 0.0 && 0.0 <= s.histogram.hi && s.histogram.hi > s.histogram.lo;
+        const std::size_t zeroBin = zeroInside ? binOf(0.0) : n;
+        const bool cut = zeroBin < n && 2 * s.histogram.counts[zeroBin] > total;
+        std::int64_t most = 1;
+        for (std::size_t b = 0; b < n; ++b)
+            if (!(cut && b == zeroBin)) most = std::max(most, s.histogram.counts[b]);
+        std::printf("histogram       %zu bins over every voxel of the box%s\n", n,
+                    cut ? "; bars scaled without the bin of 0, whose bar is cut (>)" : "");
         for (std::size_t b = 0; b < n; ++b) {
             const double lo = s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b) / double(n);
             const double hi = s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b + 1) / double(n);
             const std::int64_t c = s.histogram.counts[b];
+            const bool over = c > most;
+            std::string bar(std::size_t(40.0 * double(std::min(c, most)) / double(most) + 0.5), '#');
+            if (over) bar += '>';
             std::printf("  %12.6g .. %-12.6g %12lld  %6.2f %%  %s\n", lo, hi, static_cast<long long>(c),
-                        total ? 100.0 * double(c) / double(total) : 0.0,
-                        std::string(std::size_t(40.0 * double(c) / double(most) + 0.5), '#').c_str());
+                        total ? 100.0 * double(c) / double(total) : 0.0, bar.c_str());
         }
     }
 }

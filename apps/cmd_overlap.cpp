@@ -61,6 +61,8 @@ void runOverlap(OverlapCommand& cmd) {
     StandardTestOptions options = cmd.options;
     options.progress = !cmd.quiet;
     parseSettings(cmd.settings, options);
+    if (options.threads < 0)
+        throw Error("--threads " + std::to_string(options.threads) + ": must be ≥ 0 (0: all cores)");
     const OverlapVariant variant = parseOverlapVariant(cmd.variant);
     const auto extraPairs = parsePairs(cmd.pairs);
     validateStandardTestOptions(options);

@@ -25,6 +25,7 @@
 #include <fstream>
 #include <sstream>
 #include <map>
+#include <set>
 #include <memory>
 #include <tuple>
 
@@ -110,7 +111,8 @@ std::string partPath(const std::string& base, int i, int n) {
 std::vector<std::string> collectScenes(const RenderCommand& cmd) {
     std::vector<std::string> scenes;
     for (const std::string& input : cmd.inputs) {
-        if (fs::is_directory(input)) {
+        std::error_code ec;
+        if (fs::is_directory(input, ec)) {
             std::vector<std::string> found;
             for (const auto& entry : fs::directory_iterator(input))
                 if (entry.path().extension() == ".json") found.push_back(entry.path().string());
@@ -118,7 +120,9 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
             if (found.empty()) throw Error("folder '" + input + "' holds no .json scene files");
             scenes.insert(scenes.end(), found.begin(), found.end());
         } else {
-            if (!fs::exists(input)) throw Error("scene file '" + input + "' does not exist");
+            if (!fs::exists(input, ec))
+                throw Error("scene file '" + input + "' " +
+                            (ec ? "cannot be read: " + ec.message() : std::string("does not exist")));
             scenes.push_back(input);
         }
     }
@@ -135,9 +139,10 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
             const fs::path p = fs::path(line).is_absolute()
                                    ? fs::path(line)
                                    : fs::path(cmd.listFile).parent_path() / line;
-            if (!fs::exists(p))
+            std::error_code ec;
+            if (!fs::exists(p, ec))
                 throw Error(cmd.listFile + ":" + std::to_string(n) + ": scene file '" + p.string() +
-                            "' does not exist");
+                            "' " + (ec ? "cannot be read: " + ec.message() : std::string("does not exist")));
             scenes.push_back(p.string());
         }
     }
@@ -307,6 +312,17 @@ void runRender(const RenderCommand& cmd) {
                 std::fprintf(stderr, "lobe: error: %s (skipped)\n", error.c_str());
         }
         specs = std::move(loadable);
+        // How a volume was read, when the image depends on it and nothing else says so (a single
+        // DICOM slice drawn as a slab): one warning per volume.
+        if (root) {
+            std::set<std::string> said;
+            for (const SceneSpec& spec : specs)
+                for (const ObjectSpec& object : spec.objects) {
+                    const std::string& note = volumes.get(object.source)->note;
+                    if (!note.empty() && said.insert(note).second)
+                        std::fprintf(stderr, "lobe: warning: %s\n", note.c_str());
+                }
+        }
         if (root && !cmd.check && cmd.figure.output.empty()) createOutputFolder(cmd.outDir);
     };
     if (cmd.check) {  // rank 0 alone (the others returned)
@@ -330,6 +346,19 @@ void runRender(const RenderCommand& cmd) {
         specs = std::move(mine);
     }
     cluster::everywhere(loadVolumes);
+    // Every rank's volumes the same as rank 0's (node-local copies that differ would mix two
+    // data sets in one image): compared by content hash before anything renders.
+    if (cluster::distributed())
+        cluster::everywhere([&] {
+            std::string first;  // thrown after the loop: every rank makes every broadcast
+            for (const SceneSpec& spec : specs) {
+                const std::string mine = volumes.contentHashes(spec);
+                const std::string differs = contentHashDifference(cluster::broadcast(mine), mine);
+                if (!differs.empty() && first.empty())
+                    first = spec.path + ": this rank loaded other volume data than rank 0: " + differs;
+            }
+            if (!first.empty()) throw Error(first);
+        });
     int64_t totalPixels = 0;
     for (const SceneSpec& spec : specs) totalPixels += int64_t(spec.width) * spec.height;
 
@@ -365,6 +394,7 @@ void runRender(const RenderCommand& cmd) {
                 {"lobe:rows", std::to_string(y0) + " " + std::to_string(y1)},
                 {"lobe:scene", fingerprint(fileText(spec.path))},
                 {"lobe:settings", fingerprint(settingsText(spec, cmd.aov))},
+                {"lobe:volumes", volumes.contentHashes(spec)},
                 {"lobe:background", spec.background.text}};
             if (spec.background.mode == Background::Mode::None) write.alpha = &aovs.alpha;
             writeFilmPending(part, film, spec.exposure, extra, write).commit();
@@ -527,6 +557,7 @@ void runMerge(const RenderCommand& cmd) {
             const std::string sceneId = fingerprint(fileText(spec.path));
             const std::string settingsId = fingerprint(settingsText(spec, cmd.aov));
             FloatImage merged;
+            std::string volumesId;   // part 0's lobe:volumes
             std::string background;  // the parts' (--background is given to the renders)
             for (const auto& [i, path] : parts) {
                 FloatImage part = readFloatImage(path);
@@ -539,6 +570,14 @@ void runMerge(const RenderCommand& cmd) {
                 background = own;
                 if (part.attributes["lobe:scene"] != sceneId)
                     throw Error(path + ": rendered from a different scene file than " + spec.path);
+                // The volumes as each part's render loaded them (a file re-exported between
+                // two array tasks gives another image): every part's against part 0's.
+                if (i == 0) volumesId = part.attributes["lobe:volumes"];
+                const std::string differs =
+                    contentHashDifference(volumesId, part.attributes["lobe:volumes"]);
+                if (!differs.empty())
+                    throw Error(path + ": rendered from other volume data than " +
+                                parts.begin()->second + ": " + differs + "; render the parts again");
                 if (part.attributes["lobe:settings"] != settingsId)
                     throw Error(path + ": rendered with other settings (size, samples, seed, step, "
                                 "roulette or --aov) than asked for " + spec.path);

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -165,10 +166,10 @@ void writeGalleryFiles(const std::string& base, const Gallery& gallery,
                        const GalleryOptions& options) {
     ImageWriteOptions write;
     write.attributes = galleryProvenance(options);
-    PendingImage png = writeImagePending(base + ".png", labelledGalleryImage(gallery), write);
-    PendingImage exr = writeFilmPending(base + ".exr", gallery.film, 1.0, {}, write);
-    png.commit();
-    exr.commit();
+    std::vector<PendingImage> files;
+    files.push_back(writeImagePending(base + ".png", labelledGalleryImage(gallery), write));
+    files.push_back(writeFilmPending(base + ".exr", gallery.film, 1.0, {}, write));
+    PendingImage::commitAll(files);
 }
 
 ImageAttributes sheetProvenance(const std::vector<std::string>& captions) {
@@ -302,7 +303,7 @@ FigureResult FigureWriter::finish() {
     // when all exist.
     std::vector<PendingImage> pending;
     for (const auto& file : m.files) pending.push_back(file->finish());
-    for (PendingImage& p : pending) p.commit();
+    PendingImage::commitAll(pending);
     FigureResult result;
     if (m.thumb) result.display = m.thumb->result();
     result.covered = m.covered;
@@ -315,7 +316,37 @@ int warnInvisibleObjects(const RenderScene& scene) {
     int count = 0;
     const SceneSpec& spec = scene.spec();
     for (const SceneVolume& vo : scene.scene().volumeObjects()) {
-        if (!vo.volume->empty() && vo.volume->transparentBrickFraction() < 1.0) continue;
+        if (!vo.volume->empty() && vo.volume->transparentBrickFraction() < 1.0) {
+            // The transfer function visible only outside the active voxels' values (a brain
+            // given in 0..255 to a preset made for 0..1: a forgotten divide_by). The empty-space
+            // table above still counts the bricks where the reconstruction blends the data
+            // with the background through the visible values, so it does not see this.
+            const std::vector<TfPoint>& points = vo.volume->transferFunction().points();
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (size_t i = 0; i < points.size(); ++i) {
+                if (!(points[i].opacity > 0.0)) continue;
+                lo = std::min(lo, i == 0 ? -std::numeric_limits<double>::infinity() : points[i - 1].value);
+                hi = std::max(hi, i + 1 == points.size() ? std::numeric_limits<double>::infinity()
+                                                          : points[i + 1].value);
+            }
+            float vmin = 0.0f, vmax = 0.0f;
+            bool any = false;
+            for (auto it = vo.volume->grid().cbeginValueOn(); it; ++it) {
+                const float v = *it;
+                vmin = any ? std::min(vmin, v) : v;
+                vmax = any ? std::max(vmax, v) : v;
+                any = true;
+            }
+            if (!any || !(lo <= hi) || (hi >= double(vmin) && lo <= double(vmax))) continue;
+            std::fprintf(stderr,
+                         "lobe: warning: %s: objects[%d] (%s): its transfer function is visible "
+                         "only for values %g to %g, but the volume's active voxels hold %g to %g, "
+                         "so it cannot be seen (a divide_by missing?)\n",
+                         spec.path.c_str(), vo.objectIndex, vo.spec->name.c_str(), lo, hi,
+                         double(vmin), double(vmax));
+            ++count;
+            continue;
+        }
         std::fprintf(stderr,
                      "lobe: warning: %s: objects[%d] (%s): its transfer function gives opacity 0 to "
                      "every voxel of its volume, so it cannot be seen (check the transfer "

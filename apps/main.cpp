@@ -4,11 +4,14 @@
 #include "core/cluster.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/memory.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 #include <string>
 
 namespace {
@@ -58,6 +61,15 @@ int run(int argc, char** argv) {
         return 1;
     } catch (const lobe::Error& e) {
         return fail(1, "error", e.what());
+    } catch (const std::bad_alloc&) {
+        // An allocation beyond what the process may use (ulimit -v, a cgroup's memory.max as
+        // Slurm's --mem sets): say so, with the limit, rather than "std::bad_alloc".
+        return fail(1, "error", lobe::outOfMemoryText() + "; use a smaller image, fewer samples "
+                                "per band (--band-rows), or more memory");
+    } catch (const std::filesystem::filesystem_error& e) {
+        // A path the system refuses (a symbolic link loop, a permission) wherever it was met:
+        // the path and the reason, an input error like any other.
+        return fail(1, "error", "'" + e.path1().string() + "': " + e.code().message());
     } catch (const std::exception& e) {
         return fail(2, "internal error", e.what());
     }

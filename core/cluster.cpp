@@ -40,7 +40,13 @@ void everywhere(const std::function<void()>& step) {
     }
     const int first = firstFailed(failed);
     if (first < 0) return;
-    if (first == rank()) throw CollectiveError(message, true);
+    // A failure on some ranks only (a file missing on one node) names the rank that found it.
+    const bool everyRank = countTrue(failed) == size();
+    if (first == rank())
+        throw CollectiveError(everyRank ? message
+                                        : "on rank " + std::to_string(rank()) + " of " +
+                                              std::to_string(size()) + " only: " + message,
+                              true);
     throw CollectiveError("a scene failed on rank " + std::to_string(first), false);
 }
 
@@ -60,6 +66,8 @@ int rank() { return 0; }
 int size() { return 1; }
 int firstFailed(bool failed) { return failed ? 0 : -1; }
 bool broadcast(bool value) { return value; }
+std::string broadcast(const std::string& value) { return value; }
+int countTrue(bool value) { return value ? 1 : 0; }
 std::unique_ptr<TileSource> sharedTiles() { return std::make_unique<LocalTileSource>(); }
 void gatherTiles(const TileSource&, int, const std::vector<PixelBuffer>&, int) {}
 
@@ -270,6 +278,25 @@ bool broadcast(bool value) {
     int v = value ? 1 : 0;
     check(MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD), "broadcast");
     return v != 0;
+}
+
+std::string broadcast(const std::string& value) {
+    if (g_size == 1) return value;
+    unsigned long long length = value.size();
+    check(MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD), "broadcast");
+    std::string out = g_rank == 0 ? value : std::string(size_t(length), '\0');
+    for (size_t done = 0; done < out.size(); done += kChunk)
+        check(MPI_Bcast(out.data() + done, int(std::min(kChunk, out.size() - done)), MPI_CHAR, 0,
+                        MPI_COMM_WORLD),
+              "broadcast");
+    return out;
+}
+
+int countTrue(bool value) {
+    if (g_size == 1) return value ? 1 : 0;
+    int mine = value ? 1 : 0, total = 0;
+    check(MPI_Allreduce(&mine, &total, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD), "allreduce");
+    return total;
 }
 
 std::unique_ptr<TileSource> sharedTiles() {

@@ -46,6 +46,9 @@ inline bool isRoot() { return rank() == 0; }
 int firstFailed(bool failed);
 // Rank 0's value, on every process.
 bool broadcast(bool value);
+std::string broadcast(const std::string& value);
+// How many processes pass `value` true.
+int countTrue(bool value);
 
 // An error every process of the run knows of (see everywhere): each process ends normally with
 // it, and only the process that found it prints it.
@@ -62,7 +65,8 @@ private:
 // Runs `step` on every process (collective). When it throws lobe::Error on any process, it
 // throws CollectiveError on all: the lowest failing rank's carries its message to print, the
 // others' stay silent — so bad input found while loading gives one message and no process
-// renders. In a single process the error passes through as it is.
+// renders. A failure on some ranks but not all (a file missing on one node) is prefixed "on
+// rank R of N only: ". In a single process the error passes through as it is.
 void everywhere(const std::function<void()>& step);
 
 // A tile source shared by every process (collective: every process renders the same image with

@@ -2,10 +2,16 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/stderr_capture.h"
+#include "core/temporary_file.h"
 
 #include <OpenImageIO/imageio.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <csetjmp>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -13,6 +19,10 @@
 #include <filesystem>
 #include <random>
 #include <vector>
+
+extern "C" {
+#include <jpeglib.h>
+}
 
 namespace lobe {
 namespace {
@@ -22,13 +32,19 @@ namespace fs = std::filesystem;
 
 bool isFloatFormat(const std::string& ext) { return ext == ".exr"; }
 
-// Temporary sibling of `path` that keeps the extension, since OpenImageIO picks the format by it.
-std::string temporarySibling(const std::string& path) {
-    const fs::path p(path);
-    std::random_device rd;
-    const std::string tag = std::to_string(rd() % 1000000);
-    return (p.parent_path() / ("." + p.stem().string() + ".partial-" + tag + p.extension().string()))
-        .string();
+// OpenImageIO's error text as one line: it holds one line per message (a damaged PNG: "Read
+// error: hit end of file", "PNG read error: IDAT: ...", "PNG library error"), joined by "; ".
+std::string oneLine(const std::string& text) {
+    std::string out, line;
+    for (size_t i = 0; i <= text.size(); ++i) {
+        if (i == text.size() || text[i] == '\n') {
+            if (!line.empty()) out += (out.empty() ? "" : "; ") + line;
+            line.clear();
+        } else {
+            line += text[i];
+        }
+    }
+    return out;
 }
 
 // A 64-bit hash of a sequence of samples, eight bytes at a time: what an integer file read back
@@ -53,6 +69,93 @@ private:
     uint64_t h_ = 1469598103934665603ull;
 };
 
+// A JPEG file written with libjpeg directly, not through OpenImageIO: OpenImageIO's JPEG writer
+// keeps libjpeg's default error handler (jpeg_std_error), whose error_exit prints and calls
+// exit() — a full disk ended the process inside libjpeg, leaving the temporary file and no
+// Lobe message. Here error_exit jumps back (the libjpeg manual, libjpeg.txt, "Error handling";
+// its example.c) and the failure is returned with libjpeg's words for it. Baseline JFIF, 8-bit
+// sRGB, quality 85 (what the OpenImageIO path wrote). Each method that calls libjpeg sets the
+// jump point itself and holds no object with a destructor, as longjmp requires.
+class JpegFile {
+public:
+    JpegFile(const std::string& path, int width, int height, int quality) {
+        cinfo_.err = jpeg_std_error(&errors_.pub);
+        errors_.pub.error_exit = &JpegFile::onError;
+        errors_.pub.output_message = &JpegFile::onMessage;  // warnings: kept, never printed
+        errors_.message[0] = '\0';
+        file_ = std::fopen(path.c_str(), "wb");
+        if (!file_) {
+            std::snprintf(errors_.message, sizeof errors_.message, "%s", std::strerror(errno));
+            return;
+        }
+        if (setjmp(errors_.jump)) return;
+        jpeg_create_compress(&cinfo_);
+        created_ = true;
+        jpeg_stdio_dest(&cinfo_, file_);
+        cinfo_.image_width = JDIMENSION(width);
+        cinfo_.image_height = JDIMENSION(height);
+        cinfo_.input_components = 3;
+        cinfo_.in_color_space = JCS_RGB;
+        jpeg_set_defaults(&cinfo_);
+        jpeg_set_quality(&cinfo_, quality, TRUE);
+        jpeg_start_compress(&cinfo_, TRUE);
+        ok_ = true;
+    }
+    ~JpegFile() {
+        if (created_) jpeg_destroy_compress(&cinfo_);
+        if (file_) std::fclose(file_);
+    }
+    JpegFile(const JpegFile&) = delete;
+    JpegFile& operator=(const JpegFile&) = delete;
+
+    bool ok() const { return ok_; }
+    const char* error() const { return errors_.message; }
+
+    // `rows` rows of width · 3 bytes.
+    bool write(const unsigned char* rgb, int rows) {
+        if (!ok_) return false;
+        if (setjmp(errors_.jump)) return ok_ = false;
+        const size_t stride = size_t(cinfo_.image_width) * 3;
+        for (int y = 0; y < rows; ++y) {
+            JSAMPROW row = const_cast<JSAMPROW>(rgb + size_t(y) * stride);
+            jpeg_write_scanlines(&cinfo_, &row, 1);
+        }
+        return true;
+    }
+    // Flushes libjpeg's buffer (its destination checks every write: a short one is an error)
+    // and closes the file, whose own flush can fail too.
+    bool finish() {
+        if (!ok_) return false;
+        if (setjmp(errors_.jump)) return ok_ = false;
+        jpeg_finish_compress(&cinfo_);
+        std::FILE* f = file_;
+        file_ = nullptr;
+        if (std::fclose(f) != 0) {
+            std::snprintf(errors_.message, sizeof errors_.message, "%s", std::strerror(errno));
+            return ok_ = false;
+        }
+        return true;
+    }
+
+private:
+    struct Errors {
+        jpeg_error_mgr pub;
+        std::jmp_buf jump;
+        char message[JMSG_LENGTH_MAX];
+    };
+    static void onError(j_common_ptr cinfo) {
+        Errors* e = reinterpret_cast<Errors*>(cinfo->err);
+        (*cinfo->err->format_message)(cinfo, e->message);
+        std::longjmp(e->jump, 1);
+    }
+    static void onMessage(j_common_ptr) {}
+
+    jpeg_compress_struct cinfo_{};
+    Errors errors_{};
+    std::FILE* file_ = nullptr;
+    bool created_ = false, ok_ = false;
+};
+
 }  // namespace
 
 struct ImageBandWriter::Impl {
@@ -64,7 +167,9 @@ struct ImageBandWriter::Impl {
     bool isFloat = false, jpeg = false;
     OIIO::ImageSpec spec;
     std::unique_ptr<PendingImage> pending;  // removes the temporary file unless finished
-    std::unique_ptr<OIIO::ImageOutput> output;
+    std::unique_ptr<OIIO::ImageOutput> output;  // every format but JPEG
+    std::unique_ptr<JpegFile> jpegFile;          // JPEG
+    bool open = false;                           // rows may still be written
     std::string temporary;
     int nextRow = 0;
     SampleHash written;
@@ -127,9 +232,15 @@ ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
 
     m.temporary = temporarySibling(path);
     m.pending = std::make_unique<PendingImage>(m.temporary, path);
-    m.output = OIIO::ImageOutput::create(m.temporary);
-    if (!m.output) m.fail(OIIO::geterror());
-    if (!m.output->open(m.temporary, m.spec)) m.fail(m.output->geterror());
+    if (m.jpeg) {
+        m.jpegFile = std::make_unique<JpegFile>(m.temporary, width, height, 85);
+        if (!m.jpegFile->ok()) m.fail(m.jpegFile->error());
+    } else {
+        m.output = OIIO::ImageOutput::create(m.temporary);
+        if (!m.output) m.fail(oneLine(OIIO::geterror()));
+        if (!m.output->open(m.temporary, m.spec)) m.fail(oneLine(m.output->geterror()));
+    }
+    m.open = true;
 }
 
 ImageBandWriter::~ImageBandWriter() {
@@ -150,7 +261,7 @@ int ImageBandWriter::rowsWritten() const { return impl_->nextRow; }
 
 void ImageBandWriter::write(int rows, const float* data, const float* alpha) {
     Impl& m = *impl_;
-    if (!m.output) m.fail("internal: rows written after the file was finished");
+    if (!m.open) m.fail("internal: rows written after the file was finished");
     if (rows < 0 || m.nextRow + rows > m.height)
         m.fail("internal: rows " + std::to_string(m.nextRow) + " + " + std::to_string(rows) +
                " beyond the image's " + std::to_string(m.height));
@@ -202,25 +313,32 @@ void ImageBandWriter::write(int rows, const float* data, const float* alpha) {
             pixels = m.bytes.data();
         }
     }
-    if (rows > 0 && !m.output->write_scanlines(m.nextRow, m.nextRow + rows, 0, m.spec.format, pixels))
-        m.fail(m.output->geterror());
+    if (m.jpegFile) {
+        if (rows > 0 && !m.jpegFile->write(m.bytes.data(), rows)) m.fail(m.jpegFile->error());
+    } else if (rows > 0 &&
+               !m.output->write_scanlines(m.nextRow, m.nextRow + rows, 0, m.spec.format, pixels)) {
+        m.fail(oneLine(m.output->geterror()));
+    }
     m.nextRow += rows;
 }
 
 PendingImage ImageBandWriter::finish() {
     Impl& m = *impl_;
-    if (!m.output) m.fail("internal: finished twice");
+    if (!m.open) m.fail("internal: finished twice");
     if (m.nextRow != m.height)
         m.fail("internal: " + std::to_string(m.nextRow) + " of " + std::to_string(m.height) +
                " rows written");
-    const bool closed = m.output->close();
-    const std::string error = closed ? "" : m.output->geterror();
+    m.open = false;
+    const bool closed = m.jpegFile ? m.jpegFile->finish() : m.output->close();
+    const std::string error = closed ? "" : m.jpegFile ? m.jpegFile->error() : oneLine(m.output->geterror());
     m.output.reset();
+    m.jpegFile.reset();
     if (!closed) m.fail(error);
     // OpenImageIO's PNG, JPEG and TIFF writers do not report a short write (a full disk left a
     // truncated PNG and exit 0); the file is read back instead, band by band, and a lossless one
     // compared sample for sample through a hash of the samples written (a few ms for a 1024² PNG).
     if (!m.isFloat) {
+        StderrCapture quiet;  // libpng's own lines on a short file: the error below says it
         OIIO::ImageSpec config;
         config.attribute("oiio:UnassociatedAlpha", 1);  // as written, not premultiplied again
         auto in = OIIO::ImageInput::open(m.temporary, &config);
@@ -288,6 +406,47 @@ void PendingImage::commit() {
     temporary_.clear();
 }
 
+void PendingImage::commitAll(std::vector<PendingImage>& images) {
+    for (const PendingImage& p : images) {
+        std::error_code ec;
+        const fs::file_status st = fs::symlink_status(p.path_, ec);
+        if (fs::is_directory(st))
+            throw Error("cannot write '" + p.path_ + "': a folder of that name exists (none of the " +
+                        std::to_string(images.size()) + " files was put in place)");
+        if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
+            throw Error("cannot write '" + p.path_ + "': something other than a file has that name");
+    }
+    struct Done {
+        std::string path, previous;  // previous: a hard link to the file it replaced, or ""
+    };
+    std::vector<Done> done;
+    const auto undo = [&] {
+        for (auto it = done.rbegin(); it != done.rend(); ++it) {
+            if (!it->previous.empty()) std::rename(it->previous.c_str(), it->path.c_str());
+            else std::remove(it->path.c_str());
+        }
+    };
+    for (PendingImage& p : images) {
+        Done d{p.path_, ""};
+        std::error_code ec;
+        if (fs::is_regular_file(p.path_, ec)) {
+            const std::string keep = temporarySibling(p.path_);
+            if (::link(p.path_.c_str(), keep.c_str()) == 0) d.previous = keep;
+        }
+        fs::rename(p.temporary_, p.path_, ec);
+        if (ec) {
+            if (!d.previous.empty()) std::remove(d.previous.c_str());
+            undo();
+            throw Error("cannot write '" + p.path_ + "': " + ec.message() +
+                        (done.empty() ? "" : " (the files put in place before it were restored)"));
+        }
+        p.temporary_.clear();
+        done.push_back(d);
+    }
+    for (const Done& d : done)
+        if (!d.previous.empty()) std::remove(d.previous.c_str());
+}
+
 PendingImage writeImagePending(const std::string& path, const RgbImage& image,
                                const ImageWriteOptions& options) {
     return writePixels(path, image.width, image.height, {"R", "G", "B"}, image.rgb, options);
@@ -346,8 +505,11 @@ PendingImage writeFilmPending(const std::string& path, const Film& film, double 
 }
 
 FloatImage readFloatImage(const std::string& path) {
+    // A damaged file's libpng lines ("libpng error: IDAT: Read error", "PNG library error") are
+    // not printed beside Lobe's error, which names the file and says the same.
+    StderrCapture quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     FloatImage image;
     image.width = spec.width;
@@ -355,7 +517,7 @@ FloatImage readFloatImage(const std::string& path) {
     image.channels.names = spec.channelnames;
     image.channels.data.resize(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.channels.data.data()))
-        throw Error("cannot read image '" + path + "': " + in->geterror());
+        throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
     for (const OIIO::ParamValue& p : spec.extra_attribs) {
         const std::string name = p.name().string();
         if (name.rfind("lobe:", 0) == 0 && p.type() == OIIO::TypeDesc::STRING)
@@ -372,8 +534,11 @@ void writeFloatImage(const std::string& path, const FloatImage& image) {
 }
 
 ImageAttributes readImageAttributes(const std::string& path) {
+    // A damaged file's libpng lines ("libpng error: IDAT: Read error", "PNG library error") are
+    // not printed beside Lobe's error, which names the file and says the same.
+    StderrCapture quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     ImageAttributes attributes;
     for (const OIIO::ParamValue& p : in->spec().extra_attribs)
         if (p.type() == OIIO::TypeDesc::STRING) attributes[p.name().string()] = p.get_string();
@@ -383,7 +548,7 @@ ImageAttributes readImageAttributes(const std::string& path) {
 void forEachRgbBand(const std::string& path, long long bandPixels,
                     const std::function<void(RgbImage&, int)>& fn) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     int channel[3];
     for (int c = 0; c < 3; ++c) {
@@ -403,7 +568,7 @@ void forEachRgbBand(const std::string& path, long long bandPixels,
         rows.resize(size_t(spec.width) * size_t(y1 - y0) * size_t(count));
         if (!in->read_scanlines(0, 0, y0, y1, 0, first, first + count, OIIO::TypeDesc::FLOAT,
                                 rows.data()))
-            throw Error("cannot read image '" + path + "': " + in->geterror());
+            throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
         RgbImage band(spec.width, y1 - y0);
         for (size_t p = 0; p < size_t(spec.width) * size_t(y1 - y0); ++p)
             for (int c = 0; c < 3; ++c)
@@ -413,12 +578,15 @@ void forEachRgbBand(const std::string& path, long long bandPixels,
 }
 
 RgbImage readImage(const std::string& path) {
+    // A damaged file's libpng lines ("libpng error: IDAT: Read error", "PNG library error") are
+    // not printed beside Lobe's error, which names the file and says the same.
+    StderrCapture quiet;
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    if (!in) throw Error("cannot read image '" + path + "': " + oneLine(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
-        throw Error("cannot read image '" + path + "': " + in->geterror());
+        throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
     const bool encoded = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
     RgbImage image(spec.width, spec.height);
     for (size_t i = 0, n = size_t(spec.width) * spec.height; i < n; ++i)

@@ -50,6 +50,13 @@ public:
     PendingImage& operator=(PendingImage&&) = delete;
     ~PendingImage();
     void commit();  // throws lobe::Error naming the path if the rename fails
+    // Puts a set of files in place together (a render's PNG and EXR): every final path checked
+    // before the first rename (a folder of that name refuses the set), then renamed in order;
+    // when a later rename fails, the earlier ones are undone — a file that replaced another is
+    // put back (the old one kept as a hard link until all are in place), a new one removed.
+    // Throws lobe::Error naming the path; every temporary is removed either way.
+    static void commitAll(std::vector<PendingImage>& images);
+    const std::string& path() const { return path_; }
 
 private:
     std::string temporary_, path_;

@@ -4,11 +4,14 @@
 #include "core/rng.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/task_arena.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 namespace lobe {
@@ -19,6 +22,13 @@ void setFlushToZero() {
 }
 
 void runWithThreads(int threads, const std::function<void()>& fn) {
+    // More threads than the machine's cores, asked for: TBB's limit raised to that many for
+    // the run, so they are given — otherwise TBB prints "TBB Warning: The number of workers is
+    // currently limited to N" on stderr (even under --quiet) and gives fewer.
+    std::unique_ptr<tbb::global_control> raised;
+    if (threads > tbb::info::default_concurrency())
+        raised = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, size_t(threads));
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
         setFlushToZero();

@@ -1,6 +1,7 @@
 #include "render/scene.h"
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/progress.h"
 #include "render/framing.h"
 #include "surface/iso_exact.h"
@@ -18,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <sstream>
 
 namespace lobe {
 
@@ -98,6 +100,8 @@ std::vector<std::string> VolumeCache::preload(const std::vector<const SceneSpec*
     tbb::parallel_for(size_t(0), missing.size(), [&](size_t i) {
         try {
             loaded[i] = std::make_shared<const Volume>(loadSource(*missing[i]));
+        } catch (const std::bad_alloc&) {
+            failed[i] = missing[i]->path + ": " + outOfMemoryText();
         } catch (const std::exception& e) {
             failed[i] = e.what();
         }
@@ -133,6 +137,51 @@ std::shared_ptr<const Volume> VolumeCache::get(const VolumeSourceSpec& source) {
     return volumes_.emplace(key, volume).first->second;
 }
 
+std::string VolumeCache::contentHashes(const SceneSpec& spec) {
+    std::string text;
+    std::vector<std::string> seen;
+    for (const ObjectSpec& object : spec.objects) {
+        const std::string key = sourceKey(object.source);
+        if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+        seen.push_back(key);
+        std::string hash;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            const auto it = hashes_.find(key);
+            if (it != hashes_.end()) hash = it->second;
+        }
+        if (hash.empty()) {
+            hash = volumeContentHash(*get(object.source));
+            std::lock_guard<std::mutex> lock(mutex_);
+            hashes_[key] = hash;
+        }
+        std::string file = object.source.path;
+        for (const std::string& p : object.source.morePaths) file += "," + p;
+        text += file + " " + hash + "\n";
+    }
+    return text;
+}
+
+std::string contentHashDifference(const std::string& there, const std::string& here) {
+    if (there == here) return "";
+    // Line by line, in object order: the files may sit at other paths there (node-local copies).
+    const auto lines = [](const std::string& t) {
+        std::vector<std::pair<std::string, std::string>> out;  // file, hash
+        std::istringstream in(t);
+        for (std::string line; std::getline(in, line);) {
+            const size_t space = line.rfind(' ');
+            if (space != std::string::npos) out.emplace_back(line.substr(0, space), line.substr(space + 1));
+        }
+        return out;
+    };
+    const auto a = lines(there), b = lines(here);
+    for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+        if (a[k].second != b[k].second)
+            return b[k].first + " (content hash " + a[k].second + " there, " + b[k].second + " here)";
+    if (a.size() == b.size()) return "";  // the same data under other paths
+    return "the volumes: " + std::to_string(a.size()) + " there, " + std::to_string(b.size()) + " here";
+}
+
 namespace {
 
 // A shallow copy of the volume's grid (same voxels) whose transform is followed by the object's
@@ -148,7 +197,18 @@ openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform
     for (int c = 0; c < 3; ++c) object[3][c] = t.translation[c];
     const openvdb::math::Mat4d total = affine->getMat4() * object;
     openvdb::FloatGrid::Ptr grid = volume.grid->copy();  // shares the tree
-    grid->setTransform(openvdb::math::Transform::createLinearTransform(total));
+    try {
+        grid->setTransform(openvdb::math::Transform::createLinearTransform(total));
+    } catch (const openvdb::Exception&) {
+        // OpenVDB refuses a map whose determinant (voxel volume in world units³) is below
+        // 3e-15 whatever its conditioning (openvdb/math/Maps.h, AffineMap): a scale of 1e-5
+        // on 1 mm voxels. The scene's own check is relative (core/math.h, nearlySingular).
+        char det[32];
+        std::snprintf(det, sizeof det, "%.3g", total.det());
+        throw Error(context + ": the transform makes a voxel " + det + " world units³, smaller "
+                    "than OpenVDB's maps allow (3e-15): give the scene in larger units (e.g. µm "
+                    "instead of mm: scale the transform, camera and lights alike)");
+    }
     return grid;
 }
 

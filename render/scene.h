@@ -52,12 +52,23 @@ public:
     std::vector<std::string> preload(const std::vector<const SceneSpec*>& specs);
     // The loaded volume of a source (loading it now if it is not held).
     std::shared_ptr<const Volume> get(const VolumeSourceSpec& source);
+    // "FILE HASH" lines, one per distinct source of the scene in object order, HASH the
+    // volume's content (volumeContentHash, computed once per source): what each shard part's
+    // header carries and MPI ranks compare, so parts or ranks that read different data are
+    // never joined into one image.
+    std::string contentHashes(const SceneSpec& spec);
 
 private:
     std::mutex mutex_;
     std::map<std::string, std::shared_ptr<const Volume>> volumes_;
     std::map<std::string, std::string> errors_;  // key → message, for sources that failed
+    std::map<std::string, std::string> hashes_;  // key → volumeContentHash
 };
+
+// The first source whose hash differs between two contentHashes texts, compared in object order
+// (the same file may sit at another path on another node), as "FILE (content hash A there, B
+// here)", FILE as named here; "" when they are the same.
+std::string contentHashDifference(const std::string& there, const std::string& here);
 
 // The object's transfer function, its percentile values ("pNN", ObjectSpec::transferPercentiles)
 // taken from `volume`, the object's source as loaded (divided and blurred): percentileHistogram,

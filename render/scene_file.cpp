@@ -157,6 +157,15 @@ std::string resolvePath(const std::string& p, const std::string& baseDir) {
     return path.is_absolute() ? p : (fs::path(baseDir) / path).lexically_normal().string();
 }
 
+// "" when `p` can be reached; otherwise why not, to follow the quoted path — " does not exist",
+// or ": " and the system's reason (a symbolic link loop: "Too many levels of symbolic links") —
+// never an exception.
+std::string unreachable(const std::string& p) {
+    std::error_code ec;
+    if (fs::exists(p, ec)) return "";
+    return ec ? ": " + ec.message() : " does not exist";
+}
+
 VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
     VolumeSourceSpec s;
     // "path": one file or folder; or an array of files, the slices of one DICOM series.
@@ -166,7 +175,8 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
         for (const Json& item : list) {
             if (!item.is_string()) r.fail(r.at("path"), "expected a list of file names, got " + item.dump());
             const std::string p = resolvePath(item.get<std::string>(), baseDir);
-            if (!fs::exists(p)) r.fail(r.at("path"), "file '" + p + "' does not exist");
+            const std::string why = unreachable(p);
+            if (!why.empty()) r.fail(r.at("path"), "file '" + p + "'" + why);
             if (s.path.empty())
                 s.path = p;
             else
@@ -174,7 +184,8 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
         }
     } else {
         s.path = resolvePath(r.requiredString("path"), baseDir);
-        if (!fs::exists(s.path)) r.fail(r.at("path"), "file '" + s.path + "' does not exist");
+        const std::string why = unreachable(s.path);
+        if (!why.empty()) r.fail(r.at("path"), "file '" + s.path + "'" + why);
     }
     s.series = r.string("series", "");
     if (r.has("dims")) {
@@ -484,36 +495,100 @@ void readLightRig(Reader l, LightRigSpec& rig) {
     l.finish();
 }
 
+// The checks made while the text is read, before any value is built (nlohmann's SAX interface):
+// a key given twice in one object (JSON lets the last silently win), nesting deeper than any
+// scene needs (deep enough nesting would overflow the stack later, when the value is walked or
+// destroyed), and more elements in the top-level "lights" or "objects" array than a scene holds
+// — refused at the first element too many. Linear in the text's length: nlohmann's callback
+// parser (json::parse with a callback, used before) rescans the enclosing array each time an
+// object in it ends (json_sax_dom_callback_parser::end_object), which made 600 000 lights take
+// 101 s before their count was looked at.
+class SceneTextCheck final : public nlohmann::json_sax<Json> {
+public:
+    static constexpr int kMaxDepth = 64;
+    std::string problem;        // a scene-format problem, "key: what" or "what"
+    std::string syntax;         // a JSON error (nlohmann's text)
+    size_t syntaxByte = 0;      // where, for a syntax error (0: not a syntax error)
+
+    bool null() override { return element(); }
+    bool boolean(bool) override { return element(); }
+    bool number_integer(number_integer_t) override { return element(); }
+    bool number_unsigned(number_unsigned_t) override { return element(); }
+    bool number_float(number_float_t, const string_t&) override { return element(); }
+    bool string(string_t&) override { return element(); }
+    bool binary(binary_t&) override { return element(); }
+    bool start_object(std::size_t) override { return open(true); }
+    bool end_object() override { return close(); }
+    bool start_array(std::size_t) override { return open(false); }
+    bool end_array() override { return close(); }
+    bool key(string_t& k) override {
+        Open& o = stack_.back();
+        if (!o.keys.insert(k).second) return fail("key '" + k + "' given twice in one object");
+        if (stack_.size() == 1) topKey_ = k;
+        return true;
+    }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
+        syntax = e.what();
+        if (const auto* p = dynamic_cast<const Json::parse_error*>(&e)) syntaxByte = std::max<size_t>(1, p->byte);
+        return false;
+    }
+
+private:
+    struct Open {
+        bool object = false;
+        std::set<std::string> keys;  // an object's keys so far
+        size_t elements = 0;         // an array's elements so far
+        size_t limit = 0;            // 0: none
+        std::string what;            // "lights", "objects": the limited array's key
+    };
+    std::vector<Open> stack_;
+    std::string topKey_;  // the top-level key whose value is being read
+
+    bool fail(const std::string& why) {
+        problem = why;
+        return false;
+    }
+    bool element() {
+        if (stack_.empty() || stack_.back().object) return true;
+        Open& a = stack_.back();
+        if (a.limit != 0 && ++a.elements > a.limit)
+            return fail(a.what + ": more than " + std::to_string(a.limit) + " " + a.what +
+                        "; a scene holds at most " + std::to_string(a.limit));
+        return true;
+    }
+    bool open(bool object) {
+        if (!element()) return false;
+        if (stack_.size() >= size_t(kMaxDepth))
+            return fail("nested more than " + std::to_string(kMaxDepth) + " levels deep");
+        Open o;
+        o.object = object;
+        // Every light is evaluated at every shaded point: 600 000 lights made a render that
+        // never ends. The paper uses 4.
+        if (!object && stack_.size() == 1 && (topKey_ == "lights" || topKey_ == "objects")) {
+            o.limit = topKey_ == "lights" ? kMaxLights : kMaxObjects;
+            o.what = topKey_;
+        }
+        stack_.push_back(std::move(o));
+        return true;
+    }
+    bool close() {
+        stack_.pop_back();
+        return true;
+    }
+};
+
 }  // namespace
 
 SceneSpec parseScene(const std::string& text, const std::string& baseDir, const std::string& name) {
-    // While parsing: a key given twice in one object is an error (JSON lets the last silently
-    // win), and so is nesting deeper than any scene needs (deep enough nesting would overflow
-    // the stack later, when the value is walked or destroyed).
-    constexpr int kMaxDepth = 64;
-    std::vector<std::set<std::string>> keys;  // the keys seen in each open object
-    std::string problem;
-    const auto check = [&](int depth, Json::parse_event_t event, Json& parsed) {
-        if (depth > kMaxDepth) {
-            problem = "nested more than " + std::to_string(kMaxDepth) + " levels deep";
-            throw std::runtime_error(problem);
-        }
-        if (event == Json::parse_event_t::object_start) keys.emplace_back();
-        else if (event == Json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
-        else if (event == Json::parse_event_t::key && !keys.empty() &&
-                 !keys.back().insert(parsed.get<std::string>()).second) {
-            problem = "key '" + parsed.get<std::string>() + "' given twice in one object";
-            throw std::runtime_error(problem);
-        }
-        return true;
-    };
-    Json root;
-    try {
-        root = Json::parse(text, check);
-    } catch (const Json::parse_error& e) {
+    // First the checks (SceneTextCheck), then the value, built without a callback: both linear.
+    SceneTextCheck check;
+    if (!Json::sax_parse(text, &check)) {
+        if (!check.problem.empty()) throw Error(name + ": " + check.problem);
+        if (check.syntaxByte == 0)  // not a syntax error but a number JSON cannot hold (1e400)
+            throw Error(name + ": invalid JSON: " + check.syntax);
         // Translate the byte offset into a line and column people can find.
         size_t line = 1, column = 1;
-        for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+        for (size_t i = 0; i + 1 < check.syntaxByte && i < text.size(); ++i) {
             if (text[i] == '\n') {
                 ++line;
                 column = 1;
@@ -523,12 +598,12 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         }
         throw Error(name + ": invalid JSON at line " + std::to_string(line) + ", column " +
                     std::to_string(column));
+    }
+    Json root;
+    try {
+        root = Json::parse(text);
     } catch (const Json::exception& e) {
-        // Not a syntax error but a value JSON cannot hold as a number (e.g. 1e400).
-        throw Error(name + ": invalid JSON: " + e.what());
-    } catch (const std::runtime_error&) {
-        if (problem.empty()) throw;
-        throw Error(name + ": " + problem);
+        throw Error(name + ": invalid JSON: " + e.what());  // not expected after the check
     }
     SceneSpec scene;
     scene.path = name;
@@ -576,7 +651,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
                 PinholeCamera(scene.cameraPosition, scene.cameraTarget, scene.cameraUp,
                               scene.fovDegrees, double(scene.width) / scene.height, scene.crop);
             } catch (const Error& e) {
-                r.fail("camera", e.what());
+                std::string what = e.what();  // "camera: …": the key is named once
+                if (what.rfind("camera: ", 0) == 0) what.erase(0, 8);
+                r.fail("camera", what);
             }
         } else if (!(scene.cameraUp.length() > 0.0)) {
             cam.fail(cam.at("up"), "must not be the zero vector");
@@ -667,7 +744,12 @@ SceneSpec loadSceneFile(const std::string& path) {
                         "volumes, camera and lights (docs/scene-format.md; "
                         "assets/scenes/paper/rendering-01.json is an example); `lobe info` "
                         "describes a volume");
-    if (fs::is_directory(path)) throw Error("'" + path + "' is a folder, not a scene file");
+    {
+        std::error_code ec;
+        if (fs::is_directory(path, ec)) throw Error("'" + path + "' is a folder, not a scene file");
+        const std::string why = unreachable(path);
+        if (!why.empty()) throw Error("scene file '" + path + "'" + why);
+    }
     {  // A DICOM file by its magic ('DICM' at byte 128, PS3.10 7.1), whatever its name.
         std::ifstream probe(path, std::ios::binary);
         char magic[4] = {};

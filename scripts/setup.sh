@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config ccache
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev
-  libopenimageio-dev openimageio-tools libtbb-dev libimath-dev
+  libopenimageio-dev openimageio-tools libtbb-dev libimath-dev libjpeg-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
   libgdcm-dev python3-pydicom mricron-data
   fonts-dejavu-core libfreetype-dev

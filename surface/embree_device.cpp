@@ -2,6 +2,7 @@
 #include "surface/embree_device.h"
 
 #include "core/error.h"
+#include "core/memory.h"
 
 #include <utility>
 
@@ -21,9 +22,15 @@ void recordEmbreeError(void* /*userPtr*/, RTCError code, const char* message) {
 
 EmbreeDevice::EmbreeDevice(const std::string& config) {
     device_ = rtcNewDevice(config.empty() ? nullptr : config.c_str());
-    if (!device_)
+    if (!device_) {
+        const RTCError code = rtcGetDeviceError(nullptr);
+        // Out of memory (RTC_ERROR_OUT_OF_MEMORY), e.g. its thread stacks under ulimit -v: said
+        // so, with the limit that binds.
+        if (code == RTC_ERROR_OUT_OF_MEMORY)
+            throw Error("Embree cannot create a device: " + outOfMemoryText());
         throw Error("Embree: cannot create a device (config '" + config + "', error " +
-                    std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+                    std::to_string(static_cast<int>(code)) + ")");
+    }
     rtcSetDeviceErrorFunction(device_, recordEmbreeError, nullptr);
 }
 
@@ -49,6 +56,7 @@ void EmbreeDevice::check(const std::string& what) const {
                               ? "Embree error " + std::to_string(static_cast<int>(code))
                               : tLastEmbreeMessage;
     tLastEmbreeMessage.clear();
+    if (code == RTC_ERROR_OUT_OF_MEMORY) message = "Embree: " + outOfMemoryText();
     throw Error(what + ": " + message);
 }
 

@@ -5,11 +5,13 @@
 
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/stderr_capture.h"
 
 #include <gdcmAttribute.h>
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
 #include <gdcmReader.h>
+#include <gdcmTrace.h>
 #include <gdcmTransferSyntax.h>
 #include <gdcmUIDs.h>
 
@@ -20,6 +22,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -44,6 +47,53 @@ bool isDicomInput(const std::string& path) {
 namespace {
 
 using Vec3d = std::array<double, 3>;
+
+// What GDCM says while it reads, caught instead of printed: its own warnings and errors
+// (gdcm::Trace, several lines each with its source position) and those of the libjpeg it
+// decodes JPEG with, which go straight to the process's standard error ("Corrupt JPEG data:
+// ...", caught by core/stderr_capture.h). Both are process-wide, so one capture at a time. A
+// damaged file then gives Lobe's one error line with GDCM's words folded in, and a sound one
+// prints nothing.
+class GdcmMessages {
+public:
+    GdcmMessages() {
+        gdcm::Trace::SetWarningStream(trace_);
+        gdcm::Trace::SetErrorStream(trace_);
+    }
+    ~GdcmMessages() {
+        gdcm::Trace::SetWarningStream(std::cerr);
+        gdcm::Trace::SetErrorStream(std::cerr);
+    }
+    GdcmMessages(const GdcmMessages&) = delete;
+    GdcmMessages& operator=(const GdcmMessages&) = delete;
+
+    // Everything said since the last call, as one line: GDCM's messages without their source
+    // positions ("Warning: In FILE, line N, function F"), each once, "; " between them.
+    std::string take() {
+        std::string raw = trace_.str() + "\n" + stderr_.take();
+        trace_.str("");
+        std::vector<std::string> said;
+        std::istringstream lines(raw);
+        for (std::string line; std::getline(lines, line);) {
+            while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+            if (line.empty() || line.rfind("Warning: In ", 0) == 0 || line.rfind("Error: In ", 0) == 0 ||
+                line.rfind("Debug: In ", 0) == 0)
+                continue;
+            if (std::find(said.begin(), said.end(), line) == said.end()) said.push_back(line);
+        }
+        std::string out;
+        for (const std::string& l : said) out += (out.empty() ? "" : "; ") + l;
+        if (out.size() > 240) out = out.substr(0, 237) + "...";
+        return out;
+    }
+
+private:
+    StderrCapture stderr_;  // first: its lock serialises the trace streams' use too
+    std::ostringstream trace_;
+};
+
+// " (GDCM: what it said)", or "" when it said nothing.
+std::string gdcmSaid(const std::string& said) { return said.empty() ? "" : " (GDCM: " + said + ")"; }
 
 // What the first pass keeps of one file.
 struct SliceHeader {
@@ -128,8 +178,10 @@ std::string vecText(const Vec3d& v, int n = 3) {
 SliceHeader readHeader(const std::string& path) {
     gdcm::Reader reader;
     reader.SetFileName(path.c_str());
+    GdcmMessages messages;  // the header's warnings are not printed: a damaged header fails below
     if (!reader.ReadUpToTag(gdcm::Tag(0x7fe0, 0x0010)))
-        throw Error(path + ": GDCM cannot read this DICOM file (damaged, or not a DICOM data set)");
+        throw Error(path + ": GDCM cannot read this DICOM file (damaged, or not a DICOM data set)" +
+                    gdcmSaid(messages.take()));
     const gdcm::File& file = reader.GetFile();
     const gdcm::DataSet& ds = file.GetDataSet();
     SliceHeader h;
@@ -198,6 +250,7 @@ bool isDicomDir(const std::string& path) {
     // 1.2.840.10008.1.3.10. Read its meta header only.
     gdcm::Reader reader;
     reader.SetFileName(path.c_str());
+    GdcmMessages messages;  // not printed: the header pass reports a file GDCM cannot read
     if (!reader.ReadUpToTag(gdcm::Tag(0x0008, 0x0000))) return false;
     return text(reader.GetFile().GetHeader(), 0x0002, 0x0002) == "1.2.840.10008.1.3.10";
 }
@@ -387,8 +440,16 @@ std::vector<SliceHeader> chooseSeries(const std::string& where,
 void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
     gdcm::ImageReader reader;
     reader.SetFileName(h.path.c_str());
+    GdcmMessages messages;
     if (!reader.Read())
-        throw Error(h.path + ": GDCM cannot read the image (transfer syntax " + h.transferSyntax + ")");
+        throw Error(h.path + ": GDCM cannot read the image (transfer syntax " + h.transferSyntax + ")" +
+                    gdcmSaid(messages.take()));
+    // What GDCM says while reading the pixel data is damage it worked around: a file cut short
+    // ("Incomplete Pixel Data found, use file at own risk", the rest zero-filled). Other warnings
+    // (about the header) are dropped.
+    const std::string readSaid = messages.take();
+    if (readSaid.find("Pixel Data") != std::string::npos)
+        throw Error(h.path + ": the pixel data is damaged or cut short (GDCM: " + readSaid + ")");
     const gdcm::Image& image = reader.GetImage();
     const gdcm::PixelFormat& pf = image.GetPixelFormat();
     if (image.GetDimension(0) != unsigned(h.columns) || image.GetDimension(1) != unsigned(h.rows))
@@ -410,11 +471,30 @@ void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
         throw Error(h.path + ": the decoded image holds " + std::to_string(image.GetBufferLength()) +
                     " bytes, expected " + std::to_string(bytes) + " for " + std::to_string(h.columns) +
                     "x" + std::to_string(h.rows) + " pixels of " + std::to_string(allocated) + " bits");
+    // Uncompressed pixel data must hold every pixel: GDCM zero-fills a short element (PS3.5
+    // A.4: only encapsulated pixel data is fragmented; native data is one value of the full size).
+    const gdcm::DataElement& pixelData =
+        reader.GetFile().GetDataSet().GetDataElement(gdcm::Tag(0x7fe0, 0x0010));
+    if (!pixelData.GetSequenceOfFragments()) {
+        const gdcm::ByteValue* value = pixelData.GetByteValue();
+        const size_t held = value ? size_t(value->GetLength()) : 0;
+        if (held < bytes)
+            throw Error(h.path + ": the pixel data holds " + std::to_string(held) + " bytes, expected " +
+                        std::to_string(bytes) + " for " + std::to_string(h.columns) + "x" +
+                        std::to_string(h.rows) + " pixels of " + std::to_string(allocated) +
+                        " bits (the file is damaged or cut short)");
+    }
     std::vector<char> buffer(bytes);
     if (!image.GetBuffer(buffer.data()))
         throw Error(h.path + ": GDCM cannot decode the pixel data (transfer syntax " +
                     h.transferSyntax + "); convert the series to an uncompressed transfer syntax "
-                    "first, e.g. with gdcmconv --raw");
+                    "first, e.g. with gdcmconv --raw" + gdcmSaid(messages.take()));
+    // Any message while decoding is a decoder working around damage ("Corrupt JPEG data: ...",
+    // "Requesting too much data. Truncating result"): its pixels are not the image.
+    const std::string decodeSaid = messages.take();
+    if (!decodeSaid.empty())
+        throw Error(h.path + ": the pixel data is damaged: it does not decode cleanly (transfer syntax " +
+                    h.transferSyntax + "; GDCM: " + decodeSaid + ")");
     // GetBuffer gives the stored values in the machine's byte order. Keep the low BitsStored
     // bits and sign-extend them when PixelRepresentation is 1 (two's complement, PS3.5 8.1.1).
     const std::uint64_t mask = stored == 64 ? ~0ull : ((1ull << stored) - 1);
@@ -474,6 +554,16 @@ DenseVolume readDicomDense(const std::vector<std::string>& inputs, const std::st
     for (size_t k = 0; k < slices.size(); ++k) decodeSlice(slices[k], v.values.data() + k * perSlice, lo, hi);
     v.min = lo;
     v.max = hi;
+    if (slices.size() == 1) {
+        std::ostringstream note;
+        note << first.path << ": a single slice, drawn as a slab " << std::sqrt(dot(step, step))
+             << " mm thick ("
+             << (first.spacingBetweenSlices > 0.0 ? "SpacingBetweenSlices"
+                 : first.sliceThickness > 0.0     ? "SliceThickness"
+                                                  : "no thickness given: 1 mm")
+             << "); give the folder of the whole series for a volume";
+        v.note = note.str();
+    }
 
     // C.7.6.2.1.1, equation C.7.6.2.1-1: columns X·Δi (Δi = column spacing, PixelSpacing[1]),
     // Y·Δj (Δj = row spacing, PixelSpacing[0]), the slice step, and S of the first slice — in

@@ -146,7 +146,13 @@ Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
     try {
         volume.grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
     } catch (const openvdb::Exception& e) {
-        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() + ")");
+        // OpenVDB refuses a map whose determinant is below 3e-15 whatever its conditioning
+        // (openvdb/math/Maps.h, AffineMap); the header's own map passed the relative test
+        // (core/math.h, nearlySingular), so this is the voxels' absolute size.
+        char size[32];
+        std::snprintf(size, sizeof size, "%.3g", std::abs(m.det()));
+        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() + "): a voxel of " +
+                    size + " world units³ is smaller than OpenVDB's maps allow (3e-15)");
     }
     for (int col = 0; col < 3; ++col)
         volume.spacing[col] = std::sqrt(dense.affine[0][col] * dense.affine[0][col] +
@@ -325,7 +331,11 @@ Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& opti
     std::string source = where;
     if (inputs.size() > 1) source += " (and " + std::to_string(inputs.size() - 1) + " more files)";
     if (!options.series.empty()) source += ", series " + options.series;
-    return buildVolume(detail::readDicomDense(inputs, options.series), source, options);
+    detail::DenseVolume dense = detail::readDicomDense(inputs, options.series);
+    std::string note = dense.note;
+    Volume v = buildVolume(std::move(dense), source, options);
+    v.note = note;
+    return v;
 }
 
 Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& options) {
@@ -400,6 +410,60 @@ void writeVdb(const Volume& volume, const std::string& path, const std::string& 
         std::remove(temp.c_str());
         throw Error(path + ": cannot move the finished file into place");
     }
+}
+
+namespace {
+
+// FNV-1a 64 (Fowler, Noll, Vo; the parameters of IETF draft-eastlake-fnv) over bytes.
+struct Fnv1a64 {
+    std::uint64_t h = 1469598103934665603ull;
+    void add(const void* data, size_t bytes) {
+        const unsigned char* p = static_cast<const unsigned char*>(data);
+        for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+    }
+    template <class T>
+    void value(const T& v) {
+        add(&v, sizeof v);
+    }
+};
+
+}  // namespace
+
+std::string volumeContentHash(const Volume& volume) {
+    Fnv1a64 f;
+    if (!volume.grid) return "none";
+    const openvdb::math::Mat4d m = volume.grid->transform().baseMap()->getAffineMap()->getMat4();
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) f.value(m[r][c]);
+    for (int a = 0; a < 3; ++a) {
+        f.value(volume.dims[a]);
+        f.value(volume.indexOrigin[a]);
+    }
+    f.value(volume.valueScale);
+    f.value(volume.background);
+    const openvdb::FloatTree& tree = volume.grid->tree();
+    f.value(tree.background());
+    // Leaves: origin, active mask and the 512 values (stored values only, not the memory
+    // layout around them).
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+        const openvdb::Coord o = leaf->origin();
+        f.value(o);
+        const auto& mask = leaf->getValueMask();
+        for (openvdb::Index w = 0; w < mask.WORD_COUNT; ++w) f.value(mask.getWord<openvdb::Index64>(w));
+        f.add(leaf->buffer().data(), leaf->SIZE * sizeof(float));
+    }
+    // Tiles above the leaves: where, how large, the value and whether active.
+    auto tile = tree.cbeginValueAll();
+    tile.setMaxDepth(openvdb::FloatTree::ValueAllCIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile) {
+        f.value(tile.getCoord());
+        f.value(tile.getLevel());
+        f.value(*tile);
+        f.value(tile.isValueOn());
+    }
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(f.h));
+    return text;
 }
 
 VolumeStats computeStats(const Volume& volume) {

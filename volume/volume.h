@@ -52,6 +52,10 @@ struct Volume {
     double originalMax = 0.0;
     double valueScale = 1.0;
     double background = 0.0;
+    // Something about how the data was read that the image depends on and nothing else shows,
+    // one line for a warning (e.g. a single DICOM slice drawn as a slab of its SliceThickness);
+    // "" when there is none.
+    std::string note;
 };
 
 Volume loadRaw(const std::string& path, const RawLayout& layout, const LoadOptions& options = {});
@@ -71,6 +75,13 @@ Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& opti
 // Writes the volume's grid (named gridName, or "density") with its metadata (dims, source,
 // original range, value scale) so loadVdb restores the whole Volume. Temporary name + rename.
 void writeVdb(const Volume& volume, const std::string& path, const std::string& gridName = "");
+
+// A hash of what a loaded volume holds (FNV-1a 64, in 16 hex digits): its index-to-world map,
+// dims, value scale and background, and every value the grid stores (each leaf's voxels and
+// active mask, each tile) in the tree's order. Two loads of the same data give the same hash on
+// any machine; a volume re-exported or a differing node-local copy gives another. Shard parts
+// carry it (`lobe merge` compares them) and MPI ranks compare it before rendering.
+std::string volumeContentHash(const Volume& volume);
 
 struct VolumeStats {
     double min = 0.0, max = 0.0, mean = 0.0;  // over all dims voxels, stored values

@@ -18,6 +18,7 @@ struct DenseVolume {
     // Index → world: world = A · (i, j, k, 1)ᵀ, rows of A are x, y, z.
     std::array<std::array<double, 4>, 3> affine{{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
     double min = 0.0, max = 0.0;  // of values
+    std::string note;             // how the data was read, worth a warning (Volume::note)
 };
 
 // The whole file, decompressed when gzip is true (the gzip magic is checked first). A gzip

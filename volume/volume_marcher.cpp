@@ -107,7 +107,7 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     const openvdb::Coord dd = denseBox.dim();
     // Only where it is cheap beside the machine's memory (an eighth at most): otherwise the
     // samplers read the tree, as fast as before the copy existed.
-    const double memory = physicalMemoryBytes();
+    const double memory = memoryBudget().bytes;
     const double budget = memory > 0.0 ? std::min(DenseField::kMaxBytes, memory / 8.0)
                                        : DenseField::kMaxBytes;
     if (4.0 * double(dd.x()) * double(dd.y()) * double(dd.z()) <= budget)

@@ -52,4 +52,35 @@ fi
 [[ $(grep -c "^lobe: error: scene file 'missing.json' does not exist" bad.err) -eq 1 ]] ||
   fail "expected one message for a missing scene: $(cat bad.err)"
 [[ ! -e bad ]] || fail "a refused run created its output folder"
+# Node-local copies of a volume that differ between ranks (same scene text, other voxels) are
+# found before rendering by the volumes' content hashes and named by rank and file; a file that
+# is missing on one rank only is named by rank too.
+for r in 0 1 2; do
+  mkdir -p "node$r"
+  cat > "node$r/ball.json" <<'SCENE'
+{"image": {"width": 16, "height": 16, "samples_per_pixel": 1},
+ "camera": {"position": [40, 30, 35], "target": [7.5, 7.5, 7.5], "up": [0, 0, 1], "fov_deg": 40},
+ "lights": [{"position": [40, 30, 35], "intensity": 3000}],
+ "objects": [{"name": "ball", "kind": "isosurface",
+   "source": {"path": "ball.raw", "dims": [16, 16, 16], "type": "uint8"},
+   "iso": 100, "opacity": 1.0, "brdf": {"model": "ward"}}]}
+SCENE
+done
+{ head -c 2048 /dev/zero; head -c 2048 /dev/zero | tr '\0' '\310'; } > node0/ball.raw
+{ head -c 1024 /dev/zero; head -c 3072 /dev/zero | tr '\0' '\310'; } > node1/ball.raw
+per_rank=(bash -c 'exec "$0" render "node$OMPI_COMM_WORLD_RANK/ball.json" --quiet --out "$1"')
+if "${mpi[@]}" -n 2 "${per_rank[@]}" "$lobe" mixed 2>mixed.err; then
+  fail "ranks with different volume data left exit status 0"
+fi
+grep -q "^lobe: error: on rank 1 of 2 only: node1/ball.json: this rank loaded other volume data than rank 0: node1/ball.raw (content hash " mixed.err ||
+  fail "no message naming the rank and the file: $(cat mixed.err)"
+[[ $(grep -c "^lobe:" mixed.err) -eq 1 ]] || fail "more than one line of Lobe's: $(cat mixed.err)"
+[[ -z $(ls -A mixed 2>/dev/null) ]] || fail "ranks with different data wrote: $(ls -A mixed)"
+cp node0/ball.raw node1/ball.raw
+"${mpi[@]}" -n 2 "${per_rank[@]}" "$lobe" same || fail "ranks with the same data failed"
+if "${mpi[@]}" -n 3 "${per_rank[@]}" "$lobe" lost 2>lost.err; then
+  fail "a volume missing on rank 2 left exit status 0"
+fi
+grep -q "^lobe: error: on rank 2 of 3 only: node2/ball.json: .*ball.raw" lost.err ||
+  fail "a file missing on one rank is not named by rank: $(cat lost.err)"
 echo "mpi test: ok"

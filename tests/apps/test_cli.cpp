@@ -67,6 +67,30 @@ TEST(Cli, BrdfEvalMalformedLineNamesItsNumber) {
     EXPECT_EQ(r.errLines(), 1);
 }
 
+// A NUL byte inside a field ends strtod's reading, not the field: "1\0x" is not a number (it
+// was read as 1).
+TEST(Cli, BrdfEvalNulInsideAFieldIsRefused) {
+    std::string input = "0,0,1,0,0,1\n0,0,1";
+    input += '\0';
+    input += "x,0,0,1\n";
+    const CliRun r = lobe("brdf eval ward", input);
+    EXPECT_EQ(r.exitCode, 1) << r.out;
+    EXPECT_EQ(r.err.rfind("lobe: error: standard input line 2: expected six comma-separated numbers", 0), 0u) << r.err;
+    EXPECT_EQ(r.errLines(), 1);
+}
+
+// --samples of brdf props is bounded (8 x samples pairs overflowed an int at 300 000 000 and the
+// run never ended), and overlap's --threads must not be negative.
+TEST(Cli, BrdfPropsSamplesAndOverlapThreadsAreBounded) {
+    CliRun r = lobe("brdf props --samples 300000000");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err, "lobe: error: --samples 300000000: expected 64 to 16777216\n");
+    r = lobe("overlap --threads -1 --quiet --out " + quote((testDir() / "o").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.err.rfind("lobe: error: --threads -1: must be ≥ 0", 0), 0u) << r.err;
+    EXPECT_EQ(r.errLines(), 1) << r.err;
+}
+
 TEST(Cli, BrdfEvalUnknownModelAndParameterAreNamed) {
     CliRun r = lobe("brdf eval blinn");
     EXPECT_EQ(r.exitCode, 1);
@@ -204,6 +228,30 @@ TEST(Cli, ContactSheetAndAMissingImageNamed) {
     EXPECT_NE(r.exitCode, 0);
     EXPECT_NE(r.err.find("none.png"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "bad.png"));
+}
+
+// A damaged PNG given to contact-sheet is Lobe's one line: libpng's own ("libpng error: IDAT:
+// Read error: hit end of file", "PNG library error") are not printed beside it.
+TEST(Cli, ADamagedPngIsOneErrorLine) {
+    const fs::path d = testDir();
+    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
+    const std::string whole = readFile(d / "gallery.png");
+    std::ofstream(d / "cut.png", std::ios::binary) << whole.substr(0, whole.size() / 2);
+    const CliRun r = lobe("contact-sheet --out " + quote((d / "s.png").string()) + " " +
+                          quote((d / "cut.png").string()));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_EQ(r.errLines(), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("lobe: error: cannot read image '" + (d / "cut.png").string() + "'", 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(d / "s.png"));
+}
+
+// More threads than cores under --quiet: nothing on stderr (TBB warned "The number of workers is
+// currently limited").
+TEST(Cli, ManyThreadsUnderQuietPrintNothing) {
+    const fs::path d = testDir();
+    const CliRun r = lobe("gallery --cell 16 --spp 1 --quiet --threads 64 --out " + quote(d.string()));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
 }
 
 TEST(Cli, RenderPreviewAndRouletteOverrides) {
@@ -445,6 +493,69 @@ TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
     r = lobe("render " + quote(scene) + " --shard 3/3 --out " + quote((d / "bad").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("--shard: expected I/N"), std::string::npos) << r.err;
+}
+
+// A 16³ uint8 ball (radius `radius` voxels about the centre) and a scene of it as an opaque
+// surface, written into `folder`.
+std::string ballScene(const fs::path& folder, double radius) {
+    fs::create_directories(folder);
+    std::string voxels;
+    for (int z = 0; z < 16; ++z)
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) {
+                const double dx = x - 7.5, dy = y - 7.5, dz = z - 7.5;
+                voxels += char(dx * dx + dy * dy + dz * dz <= radius * radius ? 200 : 0);
+            }
+    std::ofstream(folder / "ball.raw", std::ios::binary) << voxels;
+    std::ofstream(folder / "ball.json") << R"({
+ "image": {"width": 24, "height": 24, "samples_per_pixel": 1, "seed": 1},
+ "camera": {"position": [40, 30, 35], "target": [7.5, 7.5, 7.5], "up": [0, 0, 1], "fov_deg": 40},
+ "lights": [{"position": [40, 30, 35], "intensity": 3000}],
+ "objects": [{"name": "ball", "kind": "isosurface",
+   "source": {"path": "ball.raw", "dims": [16, 16, 16], "type": "uint8"},
+   "iso": 100, "opacity": 1.0, "brdf": {"model": "ward"}}]
+}
+)";
+    return (folder / "ball.json").string();
+}
+
+// `lobe info --histogram` of a volume mostly 0 (a skull-stripped brain's background): the bars
+// are scaled without the bin of 0, whose bar is cut ('>'); scaled by it, the data's bins were
+// nearly empty. The ball: 552 voxels of 200, 3544 of 0.
+TEST(Cli, InfoHistogramIsNotScaledByTheBackground) {
+    const fs::path d = testDir();
+    ballScene(d, 5.0);
+    const CliRun r = lobe("info " + quote((d / "ball.raw").string()) +
+                          " --dims 16,16,16 --type uint8 --histogram --bins 4");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("bars scaled without the bin of 0, whose bar is cut (>)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("3544   86.52 %  " + std::string(40, '#') + ">\n"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("552   13.48 %  " + std::string(40, '#') + "\n"), std::string::npos) << r.out;
+}
+
+// Parts rendered from different volume data (the file re-exported between two array tasks)
+// are refused by `lobe merge`, naming the part and the file: each part's header carries a
+// content hash of every volume it loaded. Only the scene text and settings were compared, and
+// the merge joined them (15 % of the pixels differed from a single render).
+TEST(Cli, MergeRefusesPartsOfDifferentVolumeData) {
+    const fs::path d = testDir();
+    const std::string scene = ballScene(d, 5.0);
+    const std::string common = " --quiet --out " + quote((d / "parts").string());
+    ASSERT_EQ(lobe("render " + quote(scene) + " --shard 0/2" + common).exitCode, 0);
+    ballScene(d, 6.0);  // re-exported: a larger ball, same scene text
+    ASSERT_EQ(lobe("render " + quote(scene) + " --shard 1/2" + common).exitCode, 0);
+    CliRun r = lobe("merge " + quote(scene) + common);
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.errLines(), 1) << r.err;
+    EXPECT_NE(r.err.find("ball.part-1-of-2.exr: rendered from other volume data than "),
+              std::string::npos) << r.err;
+    EXPECT_NE(r.err.find((d / "ball.raw").string() + " (content hash "), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "parts" / "ball.png"));
+    // Part 0 rendered again from the same data as part 1: merged.
+    ASSERT_EQ(lobe("render " + quote(scene) + " --shard 0/2" + common).exitCode, 0);
+    r = lobe("merge " + quote(scene) + common);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(fs::exists(d / "parts" / "ball.png"));
 }
 
 // A transparent or solid background with --shard: the parts keep the coverage (channel A) or

@@ -16,7 +16,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -424,6 +427,54 @@ TEST(ImageOutput, AttributesReadBackFromPngAndExr) {
             EXPECT_EQ(back.at(key), value) << name << " " << key;
         }
     }
+}
+
+}  // namespace
+
+namespace {
+
+// A set of files put in place together (PendingImage::commitAll): when a later rename fails (its
+// folder gone: the rename finds no temporary), the earlier file is undone — the file it replaced
+// is back as it was, and a file that was new is removed; the error names the failing path. With a
+// final path that is a folder, nothing is renamed at all.
+TEST(ImageOutput, CommitAllUndoesEarlierRenamesWhenALaterFails) {
+    const fs::path d = testDir();
+    fs::create_directories(d / "a");
+    fs::create_directories(d / "b");
+    std::ofstream(d / "a" / "x.png") << "an earlier figure";
+    lobe::RgbImage img(2, 2);
+    {
+        std::vector<lobe::PendingImage> files;
+        files.push_back(lobe::writeImagePending((d / "a" / "x.png").string(), img));
+        files.push_back(lobe::writeImagePending((d / "a" / "new.png").string(), img));
+        files.push_back(lobe::writeImagePending((d / "b" / "x.png").string(), img));
+        fs::remove_all(d / "b");  // the third rename fails
+        try {
+            lobe::PendingImage::commitAll(files);
+            ADD_FAILURE() << "commitAll succeeded without its third file";
+        } catch (const lobe::Error& e) {
+            EXPECT_NE(std::string(e.what()).find((d / "b" / "x.png").string()), std::string::npos)
+                << e.what();
+            EXPECT_NE(std::string(e.what()).find("restored"), std::string::npos) << e.what();
+        }
+    }
+    std::ifstream in(d / "a" / "x.png");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text, "an earlier figure");
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d / "a")) names.push_back(e.path().filename().string());
+    EXPECT_EQ(names, std::vector<std::string>{"x.png"});  // no new.png, no temporary, no backup
+    // A folder where a file goes: refused before any rename.
+    fs::create_directories(d / "c" / "y.exr");
+    {
+        std::vector<lobe::PendingImage> files;
+        files.push_back(lobe::writeImagePending((d / "c" / "y.png").string(), img));
+        files.push_back(lobe::writeImagePending((d / "c" / "y.exr").string(), img));
+        EXPECT_THROW(lobe::PendingImage::commitAll(files), lobe::Error);
+    }
+    names.clear();
+    for (const auto& e : fs::directory_iterator(d / "c")) names.push_back(e.path().filename().string());
+    EXPECT_EQ(names, std::vector<std::string>{"y.exr"});
 }
 
 }  // namespace

@@ -65,7 +65,7 @@ def nifti_reversed_k(dims, lps_origin, x_step, y_step, k_step, hu):
 
 def ct_slice(path, series_uid, study_uid, description, position, orientation, spacing, rows, cols,
              stored, slope, intercept, instance, signed=True, transfer_syntax=ExplicitVRLittleEndian,
-             pixel_data=None):
+             pixel_data=None, native_pixel_data=None):
     meta = FileMetaDataset()
     meta.MediaStorageSOPClassUID = CT_IMAGE_STORAGE
     meta.MediaStorageSOPInstanceUID = generate_uid()
@@ -97,7 +97,9 @@ def ct_slice(path, series_uid, study_uid, description, position, orientation, sp
     ds.PixelRepresentation = 1 if signed else 0
     ds.RescaleSlope = "%g" % slope
     ds.RescaleIntercept = "%g" % intercept
-    if pixel_data is None:
+    if native_pixel_data is not None:
+        ds.PixelData = native_pixel_data
+    elif pixel_data is None:
         ds.PixelData = struct.pack("<%d%s" % (len(stored), "h" if signed else "H"), *stored)
     else:
         ds.PixelData = pixel_data
@@ -186,6 +188,32 @@ def synthetic(out):
              pixel_data=encapsulate([b"\x00\x00\x01\xb3" + b"\x00" * 12]))
 
 
+def damaged(out):
+    """Series with damaged pixel data, each of 3 axial 64x64 slices whose second file is hurt:
+    short_pixels/ (its PixelData element 2 bytes short of Rows x Columns x 2), cut_file/ (the
+    file cut 1000 bytes short, as a copy interrupted). good64/ is the same series undamaged (the
+    JPEG-lossless damage in tests/volume/test_dicom.cpp starts from it)."""
+    study = generate_uid()
+    n = 64
+    for name in ("good64", "short_pixels", "cut_file"):
+        folder = os.path.join(out, name)
+        os.makedirs(folder, exist_ok=True)
+        series = generate_uid()
+        for k in range(3):
+            stored = [(7 * i + 13 * j + 101 * k) % 2000 - 1000 for j in range(n) for i in range(n)]
+            path = os.path.join(folder, "slice_%02d.dcm" % (k + 1))
+            data = None
+            if name == "short_pixels" and k == 1:
+                data = struct.pack("<%dh" % len(stored), *stored)[:-2]
+            ct_slice(path, series, study, name, [0.0, 0.0, 2.5 * k], [1, 0, 0, 0, 1, 0], [1.0, 1.0],
+                     n, n, stored, 1.0, 0.0, k + 1, native_pixel_data=data)
+            if name == "cut_file" and k == 1:
+                with open(path, "rb") as f:
+                    whole = f.read()
+                with open(path, "wb") as f:
+                    f.write(whole[:-1000])
+
+
 def from_pydicom_files(folder, nifti_path):
     """The NIfTI of a shipped series, built by pydicom from its files (sorted along the normal)."""
     slices = []
@@ -217,6 +245,7 @@ def main():
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     synthetic(out)
+    damaged(out)
     shipped = os.path.join(os.path.dirname(pydicom.__file__), "data", "test_files", "dicomdirtests",
                            "98892001", "CT5N")
     if os.path.isdir(shipped):

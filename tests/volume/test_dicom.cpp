@@ -8,9 +8,14 @@
 #include "volume/volume.h"
 #include "volume/volume_summary.h"
 
+#include <gdcmImageChangeTransferSyntax.h>
+#include <gdcmImageReader.h>
+#include <gdcmImageWriter.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -176,6 +181,73 @@ TEST(Dicom, EachBadSeriesHasItsOwnError) {
     expectError([&] { loadVolume(at("empty")); }, {at("empty"), "no DICOM image file", "subfolders"});
 }
 
+// Standard error while `f` runs (fd 2 to a temporary file): what a user would see beside the
+// error message.
+std::string stderrOf(const std::function<void()>& f) {
+    std::fflush(stderr);
+    std::FILE* file = std::tmpfile();
+    const int saved = ::dup(2);
+    ::dup2(::fileno(file), 2);
+    f();
+    std::fflush(stderr);
+    ::dup2(saved, 2);
+    ::close(saved);
+    std::string text(size_t(std::ftell(file)), '\0');
+    std::rewind(file);
+    text.resize(std::fread(text.data(), 1, text.size(), file));
+    std::fclose(file);
+    return text;
+}
+
+// good64's second slice re-encoded by GDCM as JPEG lossless (process 14, selection value 1),
+// then 512 bytes in the middle of its compressed stream zeroed; alone in its folder.
+std::string damagedJpegLossless() {
+    const fs::path folder = data() / "jpeg_damaged";
+    fs::create_directories(folder);
+    const std::string out = (folder / "slice.dcm").string();
+    gdcm::ImageReader reader;
+    reader.SetFileName(at("good64/slice_02.dcm").c_str());
+    EXPECT_TRUE(reader.Read());
+    gdcm::ImageChangeTransferSyntax change;
+    change.SetTransferSyntax(gdcm::TransferSyntax::JPEGLosslessProcess14_1);
+    change.SetInput(reader.GetImage());
+    EXPECT_TRUE(change.Change());
+    gdcm::ImageWriter writer;
+    writer.SetFile(reader.GetFile());
+    writer.SetImage(change.GetOutput());
+    writer.SetFileName(out.c_str());
+    EXPECT_TRUE(writer.Write());
+    std::string bytes;
+    {
+        std::ifstream in(out, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const size_t soi = bytes.find("\xff\xd8\xff"), eoi = bytes.rfind("\xff\xd9");
+    EXPECT_NE(soi, std::string::npos);
+    EXPECT_GT(eoi, soi + 1024);  // a stream long enough to lose 512 bytes from its middle
+    const size_t middle = (soi + eoi) / 2;
+    std::fill(bytes.begin() + long(middle - 256), bytes.begin() + long(middle + 256), '\0');
+    std::ofstream(out, std::ios::binary) << bytes;
+    return out;
+}
+
+// Damaged pixel data is refused with one error naming the file, and GDCM prints nothing (it
+// zero-filled the missing voxels, or decoded garbage, and the load succeeded).
+TEST(Dicom, DamagedPixelDataIsRefusedByName) {
+    const Volume good = loadVolume(at("good64"));  // the undamaged series loads
+    EXPECT_EQ(good.dims, (std::array<int, 3>{64, 64, 3}));
+    const std::string said = stderrOf([&] {
+        expectError([&] { loadVolume(at("short_pixels")); },
+                    {"short_pixels/slice_02.dcm", "pixel data holds 8190 bytes, expected 8192"});
+        expectError([&] { loadVolume(at("cut_file")); },
+                    {"cut_file/slice_02.dcm", "damaged or cut short", "Incomplete Pixel Data"});
+        const std::string jpeg = damagedJpegLossless();
+        expectError([&] { loadVolume(jpeg); },
+                    {jpeg, "does not decode cleanly", "JPEG Lossless", "Corrupt JPEG data"});
+    });
+    EXPECT_EQ(said, "");
+}
+
 TEST(Dicom, ADicomFileIsNeverReadAsRawVoxels) {
     // Named like a raw file: read as DICOM (one slice) by its magic, whatever the name.
     const fs::path renamed = data() / "slice.raw";
@@ -185,6 +257,10 @@ TEST(Dicom, ADicomFileIsNeverReadAsRawVoxels) {
     const Volume one = loadVolume(renamed.string());
     EXPECT_EQ(one.dims, (std::array<int, 3>{5, 4, 1}));
     EXPECT_NEAR(one.spacing[2], 2.5, 1e-9);  // one slice: SliceThickness
+    // ... which `lobe render` warns of (it rendered as a slab without a word).
+    EXPECT_EQ(one.note, renamed.string() + ": a single slice, drawn as a slab 2.5 mm thick "
+                        "(SliceThickness); give the folder of the whole series for a volume");
+    EXPECT_EQ(loadVolume(at("ct")).note, "");
     // A raw layout given for a DICOM file or folder is an error, not a reinterpretation.
     LoadOptions raw;
     raw.hasLayout = true;
