@@ -1,0 +1,247 @@
+// Label objects (volume/labels.h, render/scene_labels.h): the selection equals the mask voxel
+// for voxel, the surface has no false shell where labels 1 < 2 < 3 meet and stays within half a
+// voxel of the boundary of the label's voxel cubes, scene keys expand and name objects, framing
+// uses the label's own box, and every kind of bad input is one clear error.
+#include "label_test_maps.h"
+#include "scene_text.h"
+
+#include "core/error.h"
+#include "render/framing.h"
+#include "render/scene.h"
+#include "render/scene_file.h"
+#include "surface/iso_exact.h"
+#include "surface/surface_scene.h"
+#include "volume/labels.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace lobe {
+namespace {
+
+using test::kMapN;
+using test::syntheticLabel;
+
+const std::string& mapPath() {
+    static const std::string path = test::writeSyntheticMap("labels.nii");
+    return path;
+}
+
+bool inSet(int i, int j, int k, const std::set<int>& ids) {
+    return ids.count(syntheticLabel(i, j, k)) > 0;
+}
+
+TEST(LabelMap, IndexCountsAndBoxes) {
+    const auto map = loadLabelMap(mapPath());
+    EXPECT_EQ(map, loadLabelMap(mapPath()));  // loaded once
+    ASSERT_EQ(map->labels.size(), 4u);
+    std::int64_t count[5] = {};
+    for (int k = 0; k < kMapN; ++k)
+        for (int j = 0; j < kMapN; ++j)
+            for (int i = 0; i < kMapN; ++i) count[syntheticLabel(i, j, k)]++;
+    for (int id = 1; id <= 4; ++id) EXPECT_EQ(map->find(id)->voxels, count[id]) << id;
+    EXPECT_EQ(map->find(4)->box, openvdb::CoordBBox(openvdb::Coord(22), openvdb::Coord(27)));
+    EXPECT_EQ(map->find(2)->box, openvdb::CoordBBox(openvdb::Coord(7), openvdb::Coord(17)));
+    EXPECT_EQ(map->nearestPresent(9, 2), (std::vector<int>{4, 3}));
+}
+
+TEST(LabelMap, SelectionEqualsTheMaskVoxelForVoxel) {
+    const auto map = loadLabelMap(mapPath());
+    for (const std::set<int>& ids : {std::set<int>{2}, std::set<int>{1, 3}, std::set<int>{4}}) {
+        const openvdb::FloatGrid::Ptr mask = labelMask(*map, std::vector<int>(ids.begin(), ids.end()));
+        auto acc = mask->getConstAccessor();
+        int wrong = 0;
+        for (int k = -2; k < kMapN + 2; ++k)
+            for (int j = -2; j < kMapN + 2; ++j)
+                for (int i = -2; i < kMapN + 2; ++i) {
+                    const bool want = i >= 0 && j >= 0 && k >= 0 && i < kMapN && j < kMapN &&
+                                      k < kMapN && inSet(i, j, k, ids);
+                    const openvdb::Coord c(i, j, k);
+                    wrong += (acc.getValue(c) == 1.0f) != want || acc.isValueOn(c) != want;
+                }
+        EXPECT_EQ(wrong, 0);
+    }
+}
+
+SurfaceScene sceneOf(std::shared_ptr<const SurfaceGeometry> g) {
+    SurfaceScene scene("threads=1");
+    scene.add(std::move(g));
+    scene.commit();
+    return scene;
+}
+
+TEST(LabelSurface, NoFalseShellWhereLowerAndHigherLabelsMeet) {
+    const auto map = loadLabelMap(mapPath());
+    const SurfaceScene label2 =
+        sceneOf(std::make_shared<IsoExactSurface>(*labelSurfaceField(*map, {2}, kLabelSmoothDefault), 0.5));
+    // The iso value 1.5 on the labels themselves: the shell of "≥ 2" includes the 1|3 plane.
+    const SurfaceScene onValues =
+        sceneOf(std::make_shared<IsoExactSurface>(*map->volume->grid, 1.5));
+    int falseShell = 0;
+    for (double y : {3.0, 4.5, 19.0, 20.5})
+        for (double z : {3.0, 4.5, 19.0, 20.5}) {
+            // Along x through the 1|3 plane x = 11.5, away from the ball of label 2.
+            Ray ray;
+            ray.o = Vec3(2.5, y, z);
+            ray.d = Vec3(1, 0, 0);
+            ray.tMax = 18.0;  // to x = 20.5, inside the box of labels 1 and 3
+            EXPECT_FALSE(label2.intersect(ray)) << y << " " << z;
+            const auto hit = onValues.intersect(ray);
+            falseShell += hit && std::abs(hit->position.x - 11.5) < 0.51;
+        }
+    EXPECT_EQ(falseShell, 16);  // what selection by value would show
+}
+
+// Distance from p to the boundary of the union of the voxel cubes [c − ½, c + ½]³ of the label
+// set: max(distance to the union, distance to its complement), one of which is 0.
+double boundaryDistance(const Vec3& p, const std::set<int>& ids) {
+    double dIn = 1e9, dOut = 1e9;
+    const int ci = int(std::floor(p.x + 0.5)), cj = int(std::floor(p.y + 0.5)), ck = int(std::floor(p.z + 0.5));
+    for (int k = ck - 3; k <= ck + 3; ++k)
+        for (int j = cj - 3; j <= cj + 3; ++j)
+            for (int i = ci - 3; i <= ci + 3; ++i) {
+                const double dx = std::max(0.0, std::abs(p.x - i) - 0.5);
+                const double dy = std::max(0.0, std::abs(p.y - j) - 0.5);
+                const double dz = std::max(0.0, std::abs(p.z - k) - 0.5);
+                const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+                const bool in = i >= 0 && j >= 0 && k >= 0 && i < kMapN && j < kMapN && k < kMapN &&
+                                inSet(i, j, k, ids);
+                (in ? dIn : dOut) = std::min(in ? dIn : dOut, d);
+            }
+    return std::max(dIn, dOut);
+}
+
+TEST(LabelSurface, WithinHalfAVoxelOfTheLabelBoundary) {
+    const auto map = loadLabelMap(mapPath());
+    for (int id : {2, 4}) {  // a ball (curved) and a cube (edges, corners)
+        const std::set<int> ids{id};
+        const SurfaceScene scene =
+            sceneOf(std::make_shared<IsoExactSurface>(*labelSurfaceField(*map, {id}, kLabelSmoothDefault), 0.5));
+        const Vec3 centre = id == 2 ? Vec3(12, 12, 12) : Vec3(24.5, 24.5, 24.5);
+        int hits = 0;
+        double worst = 0.0;
+        // Rays towards the centre from a sphere of directions, offset across the shape.
+        for (int a = 0; a < 24; ++a)
+            for (int b = 1; b < 12; ++b)
+                for (double off : {-2.0, 0.0, 2.0, 2.9}) {
+                    const double th = M_PI * b / 12.0, ph = 2.0 * M_PI * a / 24.0;
+                    const Vec3 dir(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+                    Vec3 side = normalized(dir.cross(std::abs(dir.z) < 0.9 ? Vec3(0, 0, 1) : Vec3(1, 0, 0)));
+                    Ray ray;
+                    ray.o = centre + dir * 20.0 + side * off;
+                    ray.d = -dir;
+                    const auto hit = scene.intersect(ray);
+                    if (!hit) continue;
+                    ++hits;
+                    worst = std::max(worst, boundaryDistance(hit->position, ids));
+                }
+        EXPECT_GT(hits, 800) << id;
+        EXPECT_LE(worst, 0.5) << "label " << id << ": a hit " << worst << " voxel from the boundary";
+        std::printf("label %d: %d hits, farthest %.4f voxel from the boundary of its voxel cubes\n",
+                    id, hits, worst);
+    }
+}
+
+TEST(LabelSurface, RawIndicatorKeepsEveryVoxel) {
+    // label_smooth 0: the raw indicator, 1 on the voxels of the set: every voxel centre is inside.
+    const auto map = loadLabelMap(mapPath());
+    const openvdb::FloatGrid::Ptr f = labelSurfaceField(*map, {2}, 0.0);
+    auto acc = f->getConstAccessor();
+    for (int k = 0; k < kMapN; ++k)
+        for (int j = 0; j < kMapN; ++j)
+            for (int i = 0; i < kMapN; ++i)
+                ASSERT_EQ(acc.getValue(openvdb::Coord(i, j, k)) > 0.5f, inSet(i, j, k, {2}));
+}
+
+// ---- scene keys --------------------------------------------------------------------------------
+
+std::string object(const std::string& body) {
+    return R"({"camera": {"position": [0, 0, 80], "target": [16, 16, 16]}, "objects": [)" + body + "]}";
+}
+
+std::string source(const std::string& extra) {
+    return R"({"path": ")" + mapPath() + "\"" + extra + "}";
+}
+
+const char* kTable = R"(, "label_table": {"1": "Left", "2": "Ball", "3": "Right", "4": {"name": "Cube", "color": "#ff0000"}})";
+
+TEST(LabelScene, NamesNumbersAndSegmentations) {
+    SceneSpec s = parseScene(object(R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
+                                    source(std::string(kTable) + R"(, "labels": ["Ball", 4])") + "}"),
+                             test::kSceneBase, "scene.json");
+    ASSERT_EQ(s.objects.size(), 1u);
+    EXPECT_EQ(s.objects[0].source.labels, (std::vector<int>{2, 4}));
+    EXPECT_EQ(s.objects[0].iso, 0.5);
+
+    s = parseScene(object(R"({"kind": "segmentation", "labels": "all", "opacity": 0.5, "brdf": {"model": "lambert"},
+        "source": )" + source(kTable) + R"(, "overrides": {"Ball": {"opacity": 1, "brdf": {"model": "phong"}}}})"),
+                   test::kSceneBase, "scene.json");
+    ASSERT_EQ(s.objects.size(), 4u);
+    EXPECT_EQ(s.objects[0].name, "Left");
+    EXPECT_EQ(s.objects[1].name, "Ball");
+    EXPECT_EQ(s.objects[3].name, "Cube");
+    EXPECT_EQ(s.objects[1].source.labels, std::vector<int>{2});
+    EXPECT_EQ(s.objects[1].opacity, 1.0);
+    EXPECT_EQ(s.objects[1].brdfModel, "phong");
+    EXPECT_EQ(s.objects[0].opacity, 0.5);
+    EXPECT_EQ(s.objects[0].brdfModel, "lambert");
+    // The table's #ff0000: sRGB 1, 0, 0 → linear 1, 0, 0 → bands; without a colour, white.
+    EXPECT_GT(s.objects[3].color[0], s.objects[3].color[2]);
+    EXPECT_EQ(s.objects[0].color[0], 1.0);
+}
+
+TEST(LabelScene, FitUsesTheLabelsOwnBox) {
+    const SceneSpec s = parseScene(
+        object(R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" + source(R"(, "labels": [4])") + "}"),
+        test::kSceneBase, "scene.json");
+    VolumeCache cache;
+    const std::vector<WorldBox> boxes = objectWorldBoxes(s, cache);
+    ASSERT_EQ(boxes.size(), 1u);
+    EXPECT_EQ(boxes[0].lo, Vec3(21.5, 21.5, 21.5));
+    EXPECT_EQ(boxes[0].hi, Vec3(27.5, 27.5, 27.5));
+}
+
+void expectError(const std::string& text, std::initializer_list<std::string> parts) {
+    const std::string e = test::errorOf(text);
+    ASSERT_FALSE(e.empty()) << text;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    for (const std::string& p : parts) EXPECT_NE(e.find(p), std::string::npos) << e << "\nmissing: " << p;
+}
+
+TEST(LabelScene, BadInputIsOneClearError) {
+    const std::string iso = R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )";
+    // A label not present: the nearest present labels named.
+    expectError(object(iso + source(R"(, "labels": [9])") + "}"),
+                {"objects[0].source.labels", "label 9 is not in", "nearest labels present: 4, 3, 2"});
+    // A name in no table, with the nearest names.
+    expectError(object(iso + source(std::string(kTable) + R"(, "labels": ["Bal"])") + "}"),
+                {"'Bal' is in no label table", "Ball"});
+    // A name without any table.
+    expectError(object(iso + source(R"(, "labels": ["Ball"])") + "}"), {"has no label table"});
+    // A table that does not match the map.
+    expectError(object(iso + source(R"(, "label_table": {"1": "a", "2": "b"}, "labels": [1])") + "}"),
+                {"label_table", "does not match the map", "2 of the map's 4 labels are not in it (3, 4)"});
+    // A map that is not a label map.
+    const std::string fractional = test::writeSyntheticMap("fractional.nii", true);
+    expectError(object(iso + R"({"path": ")" + fractional + R"(", "labels": [1]}})"),
+                {"not a label map", "0.5", "not a whole number"});
+    // Two objects claiming one label.
+    expectError(object(iso + source(R"(, "labels": [2])") + "}, " + iso + source(R"(, "labels": [2, 3])") + "}"),
+                {"both claim label 2"});
+    // "all" is for segmentations, an iso value is not for labels, load options are not either.
+    expectError(object(iso + source(R"(, "labels": "all")") + "}"), {"\"all\" is for"});
+    expectError(object(R"({"kind": "isosurface", "iso": 2, "brdf": {"model": "lambert"}, "source": )" +
+                       source(R"(, "labels": [2])") + "}"),
+                {"objects[0].iso", "0.5 level"});
+    expectError(object(iso + source(R"(, "labels": [2], "divide_by": 2)") + "}"), {"divide_by", "not with labels"});
+    // An override naming no label of the segmentation.
+    expectError(object(R"({"kind": "segmentation", "labels": [1, 2], "brdf": {"model": "lambert"}, "source": )" +
+                       source(kTable) + R"(, "overrides": {"Cube": {"opacity": 0.5}}})"),
+                {"overrides.Cube", "not one of this segmentation's labels"});
+}
+
+}  // namespace
+}  // namespace lobe
