@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <set>
 
@@ -241,6 +242,39 @@ TEST(LabelScene, BadInputIsOneClearError) {
     expectError(object(R"({"kind": "segmentation", "labels": [1, 2], "brdf": {"model": "lambert"}, "source": )" +
                        source(kTable) + R"(, "overrides": {"Cube": {"opacity": 0.5}}})"),
                 {"overrides.Cube", "not one of this segmentation's labels"});
+}
+
+// The installed AAL atlas (Debian mricron-data): label 37 (Hippocampus_L) as a label object covers
+// the image as a binary mask of label 37 (written as a .vdb) does as an exact iso-surface at 0.5
+// — the route users took before labels existed. Same fitted camera, coverage = any surface hit.
+TEST(LabelScene, AalLabel37CoversWhatItsBinaryMaskDoes) {
+    const std::string aal = "/usr/share/mricron/templates/aal.nii.gz";
+    if (!std::filesystem::exists(aal)) GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
+    const std::string mask = (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal37.vdb").string();
+    Volume maskVolume = *loadLabelMap(aal)->volume;
+    maskVolume.grid = labelMask(*loadLabelMap(aal), {37});
+    writeVdb(maskVolume, mask);
+    const auto sceneText = [](const std::string& object) {
+        return R"({"image": {"width": 96, "height": 96}, "camera": {"fit": {"view": "left", "margin": 1.2}},
+                   "objects": [)" + object + "]}";
+    };
+    const SceneSpec label = parseScene(sceneText(R"({"kind": "isosurface", "brdf": {"model": "lambert"},
+        "source": {"path": ")" + aal + R"(", "labels": [37]}})"), test::kSceneBase, "label.json");
+    const SceneSpec binary = parseScene(sceneText(R"({"kind": "isosurface", "iso": 0.5, "brdf": {"model": "lambert"},
+        "source": {"path": ")" + mask + R"("}})"), test::kSceneBase, "mask.json");
+    const Scene a(label, false), b(binary, false);
+    int both = 0, either = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x) {
+            const Ray ray = a.camera().generateRay((x + 0.5) / 96.0, (y + 0.5) / 96.0);
+            const bool inA = bool(a.surfaces()->intersect(ray)), inB = bool(b.surfaces()->intersect(ray));
+            both += inA && inB;
+            either += inA || inB;
+        }
+    ASSERT_GT(either, 500);
+    const double iou = double(both) / either;
+    std::printf("AAL label 37 against its binary mask: IoU %.3f over %d pixels covered\n", iou, either);
+    EXPECT_GE(iou, 0.9);
 }
 
 }  // namespace
