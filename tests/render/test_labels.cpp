@@ -12,6 +12,7 @@
 #include "surface/iso_exact.h"
 #include "surface/surface_scene.h"
 #include "volume/labels.h"
+#include "volume/reconstruction.h"
 
 #include <gtest/gtest.h>
 
@@ -155,6 +156,22 @@ TEST(LabelSurface, RawIndicatorKeepsEveryVoxel) {
         for (int j = 0; j < kMapN; ++j)
             for (int i = 0; i < kMapN; ++i)
                 ASSERT_EQ(acc.getValue(openvdb::Coord(i, j, k)) > 0.5f, inSet(i, j, k, {2}));
+}
+
+TEST(LabelVolume, NearestNeverPassesThroughALabelBetween) {
+    // Across the 1|3 plane: trilinear reconstruction passes through label 2, nearest does not.
+    const auto map = loadLabelMap(mapPath());
+    GridReconstructor recon(*map->volume->grid);
+    int trilinearTwos = 0;
+    for (double x = 2.0; x <= 21.0; x += 0.01) {
+        const Vec3 p(x, 4.0, 4.0);
+        const double n = recon.value(Reconstruction::kNearest, p);
+        ASSERT_TRUE(n == 1.0 || n == 3.0) << x << " " << n;
+        ASSERT_EQ(n, x < 11.5 ? 1.0 : 3.0) << x;
+        const double t = recon.value(Reconstruction::kTrilinear, p);
+        trilinearTwos += std::abs(t - 2.0) < 0.1;
+    }
+    EXPECT_GT(trilinearTwos, 0);
 }
 
 // ---- scene keys --------------------------------------------------------------------------------
