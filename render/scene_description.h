@@ -120,6 +120,9 @@ struct ZoomSpec {
     double size = 0.0;   // Point: world units across the crop's shorter side at the point's depth
     Vec3 lo{0.0}, hi{0.0};  // Box
     double margin = 1.1;    // Box: the box's projection fills 1/margin of the crop
+    // Box from objects: the world box of these objects (a label object's is its labels' own),
+    // set at scene assembly (render/framing.cpp, resolveView).
+    std::vector<std::string> objects;
 };
 
 // Lights placed relative to the camera at scene assembly (render/framing.h).

@@ -578,8 +578,23 @@ void checkCropAspect(const Reader& cam, const CropWindow& c) {
 // "zoom": {"point": [x, y, z], "size": s} or {"box": [[x0, y0, z0], [x1, y1, z1]], "margin": m}
 // in world coordinates (render/framing.h, zoomCrop).
 void readZoom(Reader z, ZoomSpec& zoom) {
-    if (z.has("point") == z.has("box"))
-        z.fail(z.path(), "give either point (with size) or box");
+    if (int(z.has("point")) + int(z.has("box")) + int(z.has("objects")) != 1)
+        z.fail(z.path(), "give either point (with size), box or objects");
+    if (z.has("objects")) {  // the world box of these objects (e.g. a label of an atlas)
+        zoom.kind = ZoomSpec::Kind::Box;
+        const Json& o = z.raw("objects");
+        if (o.is_string()) zoom.objects.push_back(o.get<std::string>());
+        else if (o.is_array() && !o.empty())
+            for (const Json& n : o) {
+                if (!n.is_string()) z.fail(z.at("objects"), "expected names (strings), got " + n.dump());
+                zoom.objects.push_back(n.get<std::string>());
+            }
+        else
+            z.fail(z.at("objects"), "expected an object's name or a non-empty array of names");
+        zoom.margin = z.number("margin", 1.1, 1.0, 100.0);
+        z.finish();
+        return;
+    }
     if (z.has("point")) {
         zoom.kind = ZoomSpec::Kind::Point;
         zoom.center = z.vec3("point", Vec3(0));
@@ -794,7 +809,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
                                           " (a label belongs to one object)");
             }
     }
-    for (const std::string& wanted : scene.fit.objects) {
+    std::vector<std::string> named = scene.fit.objects;
+    named.insert(named.end(), scene.zoom.objects.begin(), scene.zoom.objects.end());
+    for (const std::string& wanted : named) {
         std::string names;
         bool found = false;
         for (const ObjectSpec& o : scene.objects) {
@@ -802,7 +819,11 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
             names += (names.empty() ? "" : ", ") + o.name;
         }
         if (!found)
-            r.fail("camera.fit.objects", "no object is named '" + wanted + "' (objects: " + names + ")");
+            r.fail(std::find(scene.fit.objects.begin(), scene.fit.objects.end(), wanted) !=
+                           scene.fit.objects.end()
+                       ? "camera.fit.objects"
+                       : "camera.zoom.objects",
+                   "no object is named '" + wanted + "' (objects: " + names + ")");
     }
     r.finish();
     return scene;

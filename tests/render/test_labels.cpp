@@ -222,6 +222,27 @@ TEST(LabelScene, FitUsesTheLabelsOwnBox) {
     EXPECT_EQ(boxes[0].hi, Vec3(27.5, 27.5, 27.5));
 }
 
+TEST(LabelScene, ZoomOnALabelObjectUsesItsOwnBox) {
+    const auto sceneWith = [](const std::string& zoom) {
+        return R"({"camera": {"fit": {"view": "left"}, "zoom": )" + zoom + R"(}, "objects": [
+            {"name": "cube", "kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
+               source(R"(, "labels": [4])") + R"(},
+            {"name": "rest", "kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
+               source(R"(, "labels": [1, 2, 3])") + "}]}";
+    };
+    SceneSpec byName = parseScene(sceneWith(R"({"objects": "cube", "margin": 1.2})"), test::kSceneBase, "a.json");
+    SceneSpec byBox = parseScene(sceneWith(R"({"box": [[21.5, 21.5, 21.5], [27.5, 27.5, 27.5]], "margin": 1.2})"),
+                                 test::kSceneBase, "b.json");
+    VolumeCache cache;
+    resolveView(byName, objectWorldBoxes(byName, cache));
+    resolveView(byBox, objectWorldBoxes(byBox, cache));
+    EXPECT_EQ(byName.crop.x0, byBox.crop.x0);
+    EXPECT_EQ(byName.crop.y1, byBox.crop.y1);
+    EXPECT_LT(byName.crop.x1 - byName.crop.x0, 0.5);  // a close-up, not the whole view
+    EXPECT_NE(test::errorOf(sceneWith(R"({"objects": "cubes"})")).find("camera.zoom.objects: no object is named 'cubes'"),
+              std::string::npos);
+}
+
 void expectError(const std::string& text, std::initializer_list<std::string> parts) {
     const std::string e = test::errorOf(text);
     ASSERT_FALSE(e.empty()) << text;
