@@ -17,7 +17,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <set>
 
@@ -280,6 +282,44 @@ TEST(LabelScene, BadInputIsOneClearError) {
     expectError(object(R"({"kind": "segmentation", "labels": [1, 2], "brdf": {"model": "lambert"}, "source": )" +
                        source(kTable) + R"(, "overrides": {"Cube": {"opacity": 0.5}}})"),
                 {"overrides.Cube", "not one of this segmentation's labels"});
+}
+
+// The installed AAL atlas against nibabel's mask of it (np.isin(data, S)): the voxel count, the
+// index box and the sum of the flat (x-fastest) indices of the selected voxels, for {37} and
+// {37, 38}, equal ours voxel for voxel.
+TEST(LabelMap, AalSelectionEqualsNibabelsMask) {
+    const std::string aal = "/usr/share/mricron/templates/aal.nii.gz";
+    if (!std::filesystem::exists(aal)) GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
+    const std::string out = (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal-mask.txt").string();
+    std::filesystem::create_directories(std::filesystem::path(out).parent_path());
+    const std::string cmd = std::string(LOBE_SYSTEM_PYTHON) + " -c \"import nibabel as nib, numpy as np\n"
+        "d = np.asanyarray(nib.load('" + aal + "').dataobj)\n"
+        "with open('" + out + "', 'w') as f:\n"
+        "    for s in ([37], [37, 38]):\n"
+        "        m = np.isin(d, s)\n"
+        "        i = np.argwhere(m)\n"
+        "        flat = np.flatnonzero(m.flatten(order='F'))\n"
+        "        f.write('%d %s %s %d\\n' % (m.sum(), ' '.join(map(str, i.min(0))), ' '.join(map(str, i.max(0))), flat.sum()))\n\"";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream in(out);
+    const auto map = loadLabelMap(aal);
+    for (const std::vector<int>& ids : {std::vector<int>{37}, std::vector<int>{37, 38}}) {
+        long long count, lo[3], hi[3], flatSum;
+        in >> count >> lo[0] >> lo[1] >> lo[2] >> hi[0] >> hi[1] >> hi[2] >> flatSum;
+        ASSERT_TRUE(in) << "nibabel's output";
+        const openvdb::FloatGrid::Ptr mask = labelMask(*map, ids);
+        long long ours = 0, oursFlat = 0;
+        for (auto it = mask->cbeginValueOn(); it; ++it) {
+            const openvdb::Coord c = it.getCoord();
+            ++ours;
+            oursFlat += c.x() + 181LL * (c.y() + 217LL * c.z());
+        }
+        EXPECT_EQ(ours, count);
+        EXPECT_EQ(oursFlat, flatSum);
+        const openvdb::CoordBBox box = map->boxOf(ids);
+        EXPECT_EQ(box, openvdb::CoordBBox(openvdb::Coord(int(lo[0]), int(lo[1]), int(lo[2])),
+                                          openvdb::Coord(int(hi[0]), int(hi[1]), int(hi[2]))));
+    }
 }
 
 // The installed AAL atlas (Debian mricron-data): label 37 (Hippocampus_L) as a label object covers
