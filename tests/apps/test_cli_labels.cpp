@@ -57,4 +57,30 @@ TEST(CliLabels, AssignTreatsEachLabelAsAnObject) {
     EXPECT_NE(report.find("Cube"), std::string::npos) << report;
 }
 
+TEST(CliLabels, BadLabelsAreOneLineAndWriteNothing) {
+    const fs::path d = lobe::test::testDir("cli-labels");
+    const std::string map = lobe::test::writeSyntheticMap("cli-bad.nii");
+    const auto sceneWith = [&](const std::string& objects) {
+        const std::string path = (d / "bad.json").string();
+        std::ofstream(path) << R"({"image": {"width": 8, "height": 8}, "camera": {"fit": {"view": "left"}},
+          "objects": [)" << objects << "]}";
+        return path;
+    };
+    const std::string src = R"("source": {"path": ")" + map + R"(", "label_table": {"1": "Left", "2": "Ball", "3": "Right", "4": "Cube"}})";
+    for (const auto& [objects, message] : std::vector<std::pair<std::string, std::string>>{
+             {R"({"kind": "segmentation", "labels": [2, 7], "brdf": {"model": "phong"}, )" + src + "}",
+              "label 7 is not in"},
+             {R"({"kind": "segmentation", "labels": ["Bal"], "brdf": {"model": "phong"}, )" + src + "}",
+              "'Bal' is in no label table"},
+             {R"({"kind": "segmentation", "labels": [2], "brdf": {"model": "phong"}, )" + src + "}, " +
+                  R"({"kind": "segmentation", "labels": ["Ball"], "brdf": {"model": "phong"}, )" + src + "}",
+              "both claim label 2"}}) {
+        const CliRun r = lobe("render " + quote(sceneWith(objects)) + " --out " + quote((d / "out").string()));
+        EXPECT_EQ(r.exitCode, 1);
+        EXPECT_EQ(r.errLines(), 1) << r.err;
+        EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(d / "out" / "bad.png"));
+    }
+}
+
 }  // namespace
