@@ -56,8 +56,16 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
     std::ifstream in(spec.path);
     nlohmann::json j = nlohmann::json::parse(in);
     const fs::path outDir = fs::absolute(fs::path(outPath)).parent_path();
+    const fs::path sceneDir = fs::absolute(fs::path(spec.path)).parent_path();
+    size_t next = 0;  // the JSON object of the next object that is not from a segmentation
     for (size_t o = 0; o < spec.objects.size(); ++o) {
-        nlohmann::json& object = j["objects"][o];
+        // A segmentation's labels (docs/scene-format.md, "Labels") are one JSON object: their
+        // choices go into its "overrides", keyed by the label's name (or number).
+        const std::string& seg = spec.objects[o].segmentation;
+        const size_t index = seg.empty() ? next++ : size_t(std::stoul(seg.substr(seg.find('[') + 1)));
+        if (!seg.empty() && (o + 1 == spec.objects.size() || spec.objects[o + 1].segmentation != seg))
+            next = index + 1;
+        nlohmann::json& object = j["objects"][index];
         const VolumeSourceSpec& source = spec.objects[o].source;
         const auto relative = [&](const std::string& p) {
             return fs::relative(fs::absolute(p), outDir).generic_string();
@@ -69,7 +77,23 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
             for (const std::string& p : source.morePaths) list.push_back(relative(p));
             object["source"]["path"] = list;
         }
+        nlohmann::json& table = object["source"]["label_table"];
+        if (table.is_string() && !fs::path(table.get<std::string>()).is_absolute())
+            table = relative((sceneDir / table.get<std::string>()).lexically_normal().string());
+        else if (table.is_null())
+            object["source"].erase("label_table");
         if (kept[o]) continue;
+        nlohmann::json* target = &object;
+        if (!seg.empty()) {
+            // The label's key: an existing override's (by name or number), else its name.
+            const std::string prefix = object.value("name", std::string());
+            std::string name = spec.objects[o].name;
+            if (!prefix.empty() && name.rfind(prefix + ": ", 0) == 0) name = name.substr(prefix.size() + 2);
+            std::string key = name;
+            const std::string number = std::to_string(source.labels.front());
+            if (object.contains("overrides") && object["overrides"].contains(number)) key = number;
+            target = &object["overrides"][key];
+        }
         const BrdfCandidate& c = candidates[size_t(chosen[o])];
         nlohmann::json brdf = {{"model", c.model}};
         for (const std::string& kv : c.settings) {
@@ -86,7 +110,7 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
                 brdf[kv.substr(0, eq)] = bands;
             }
         }
-        object["brdf"] = brdf;
+        (*target)["brdf"] = brdf;
     }
     return j.dump(1) + "\n";
 }

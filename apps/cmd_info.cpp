@@ -4,6 +4,9 @@
 // several DICOM files, --series picks a series); --blur-fwhm blurs first (as a
 // scene's source does), --histogram / --bins N adds a histogram. Also home of the volume options `lobe convert` shares.
 #include "apps/commands.h"
+#include "core/error.h"
+#include "volume/label_table.h"
+#include "volume/labels.h"
 #include "volume/volume_summary.h"
 
 #include <CLI/CLI.hpp>
@@ -101,6 +104,45 @@ void printVolumeSummary(const VolumeSummary& s) {
     }
 }
 
+// `lobe info MAP --labels [--label-table T]`: the labels present in a label map, each with its
+// voxel count, world box (voxel centres ± half a voxel) and name (from T, or MRIcron's MAP.txt
+// beside the map).
+void printLabels(const std::string& path, const std::string& tablePath) {
+    const std::shared_ptr<const LabelMap> map = loadLabelMap(path);
+    const LabelTable table = tablePath.empty() ? tableBeside(path) : readLabelTable(tablePath);
+    const openvdb::math::Transform& xf = map->volume->grid->transform();
+    std::printf("label map       %s\n", path.c_str());
+    std::printf("label table     %s\n", table.empty() ? "none" : table.source.c_str());
+    std::printf("labels present  %zu\n", map->labels.size());
+    std::printf("%8s %10s  %-44s  %s\n", "label", "voxels", "world box (min .. max)", "name");
+    for (const auto& [id, info] : map->labels) {
+        openvdb::Vec3d lo(1e300), hi(-1e300);
+        for (int c = 0; c < 8; ++c) {
+            const openvdb::Vec3d idx((c & 1) ? info.box.max().x() + 0.5 : info.box.min().x() - 0.5,
+                                     (c & 2) ? info.box.max().y() + 0.5 : info.box.min().y() - 0.5,
+                                     (c & 4) ? info.box.max().z() + 0.5 : info.box.min().z() - 0.5);
+            const openvdb::Vec3d w = xf.indexToWorld(idx);
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], w[a]);
+                hi[a] = std::max(hi[a], w[a]);
+            }
+        }
+        char box[96];
+        std::snprintf(box, sizeof box, "(%g, %g, %g) .. (%g, %g, %g)", lo[0], lo[1], lo[2], hi[0],
+                      hi[1], hi[2]);
+        const LabelEntry* e = table.find(id);
+        std::printf("%8d %10lld  %-44s  %s\n", id, static_cast<long long>(info.voxels), box,
+                    e ? e->name.c_str() : "");
+    }
+    std::vector<int> unnamed;
+    if (!table.empty())
+        for (const auto& [id, info] : map->labels)
+            if (!table.find(id)) unnamed.push_back(id);
+    if (!unnamed.empty())
+        std::printf("note            %zu labels present are not in the table (first: %d)\n",
+                    unnamed.size(), unnamed.front());
+}
+
 void registerInfoCommand(CLI::App& app) {
     struct Options {
         std::vector<std::string> files;
@@ -108,6 +150,8 @@ void registerInfoCommand(CLI::App& app) {
         double blurFwhm = 0.0;
         int bins = 0;
         bool histogram = false;
+        bool labels = false;
+        std::string labelTable;
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
@@ -126,7 +170,20 @@ void registerInfoCommand(CLI::App& app) {
                   "also print a histogram of the values (every voxel of the box)");
     cmd->add_option("--bins", options->bins, "the histogram's bins (default 32; implies --histogram)")
         ->check(CLI::Range(1, 10000));
+    cmd->add_flag("--labels", options->labels,
+                  "FILE is a label map (segmentation, atlas): list the labels present with their "
+                  "voxel counts, world boxes and names (from --label-table, or MRIcron's FILE.txt "
+                  "beside it)");
+    cmd->add_option("--label-table", options->labelTable,
+                    "with --labels: the label table (FreeSurfer ColorLUT, ITK-SNAP label "
+                    "description, MRIcron .txt/.lut)");
     cmd->callback([options] {
+        if (options->labels || !options->labelTable.empty()) {
+            if (!options->labels) throw Error("--label-table goes with --labels");
+            if (options->files.size() != 1) throw Error("--labels takes one label map");
+            printLabels(options->files.front(), options->labelTable);
+            return;
+        }
         const int bins = options->bins > 0 ? options->bins : (options->histogram ? 32 : 0);
         printVolumeSummary(summarizeVolume(options->files, parseLoadOptions(options->text),
                                            options->blurFwhm, bins));

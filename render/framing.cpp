@@ -240,6 +240,16 @@ void resolveView(SceneSpec& spec, const std::vector<WorldBox>& objectBoxes) {
         for (PointLight& light : spec.lights)
             light.position = rotateAbout(light.position, centre, axis, spec.orbitDeg);
     }
+    if (!spec.zoom.objects.empty()) {  // a close-up of named objects: their world box
+        WorldBox zoomBox;
+        for (size_t i = 0; i < spec.objects.size() && i < objectBoxes.size(); ++i)
+            if (std::find(spec.zoom.objects.begin(), spec.zoom.objects.end(), spec.objects[i].name) !=
+                spec.zoom.objects.end())
+                zoomBox.grow(objectBoxes[i]);
+        if (zoomBox.empty()) throw Error(where + "zoom.objects: the objects have no voxels to zoom on");
+        spec.zoom.lo = zoomBox.lo;
+        spec.zoom.hi = zoomBox.hi;
+    }
     if (spec.zoom.kind != ZoomSpec::Kind::None) {
         try {
             spec.crop = zoomCrop(spec.zoom, spec.cameraPosition, spec.cameraTarget, spec.cameraUp,

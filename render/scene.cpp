@@ -9,6 +9,7 @@
 #include "surface/iso_mesh.h"
 #include "surface/surface_scene.h"
 #include "volume/gaussian_blur.h"
+#include "volume/labels.h"
 #include "volume/volume.h"
 #include "volume/volume_marcher.h"
 
@@ -40,8 +41,12 @@ TangentAxes worldAxes(const ObjectSpec& spec) {
     return {apply(a), apply(f)};
 }
 
-// Everything a loaded volume depends on.
+bool isLabelSource(const VolumeSourceSpec& s) { return !s.labels.empty(); }
+
+// Everything a loaded volume depends on. A label map is the file alone (loaded once per process,
+// volume/labels.h): every label object of it shares one entry.
 std::string sourceKey(const VolumeSourceSpec& s) {
+    if (isLabelSource(s)) return "labels|" + s.path;
     char numbers[256];
     std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", int(s.divideByMax),
                   s.divideByPercentile, s.divideBy,
@@ -52,6 +57,8 @@ std::string sourceKey(const VolumeSourceSpec& s) {
         for (int d : *s.dims) key += "|" + std::to_string(d);
     return key;
 }
+
+std::shared_ptr<const Volume> loadShared(const VolumeSourceSpec& s);
 
 Volume loadSource(const VolumeSourceSpec& s) {
     LoadOptions options;
@@ -72,6 +79,11 @@ Volume loadSource(const VolumeSourceSpec& s) {
     Volume v = loadVolume(paths, options);
     if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);
     return v;
+}
+
+std::shared_ptr<const Volume> loadShared(const VolumeSourceSpec& s) {
+    if (isLabelSource(s)) return loadLabelMap(s.path)->volume;
+    return std::make_shared<const Volume>(loadSource(s));
 }
 
 }  // namespace
@@ -99,7 +111,7 @@ std::vector<std::string> VolumeCache::preload(const std::vector<const SceneSpec*
     std::vector<std::string> failed(missing.size());
     tbb::parallel_for(size_t(0), missing.size(), [&](size_t i) {
         try {
-            loaded[i] = std::make_shared<const Volume>(loadSource(*missing[i]));
+            loaded[i] = loadShared(*missing[i]);
         } catch (const std::bad_alloc&) {
             failed[i] = missing[i]->path + ": " + outOfMemoryText();
         } catch (const std::exception& e) {
@@ -132,7 +144,7 @@ std::shared_ptr<const Volume> VolumeCache::get(const VolumeSourceSpec& source) {
         const auto bad = errors_.find(key);
         if (bad != errors_.end()) throw Error(bad->second);
     }
-    auto volume = std::make_shared<const Volume>(loadSource(source));
+    auto volume = loadShared(source);
     std::lock_guard<std::mutex> lock(mutex_);
     return volumes_.emplace(key, volume).first->second;
 }
@@ -186,9 +198,9 @@ namespace {
 
 // A shallow copy of the volume's grid (same voxels) whose transform is followed by the object's
 // transform, so the grid maps index → scene world directly.
-openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform& t,
+openvdb::FloatGrid::Ptr placeInWorld(const openvdb::FloatGrid::Ptr& source, const ObjectTransform& t,
                                      const std::string& context) {
-    const openvdb::math::AffineMap::Ptr affine = volume.grid->transform().baseMap()->getAffineMap();
+    const openvdb::math::AffineMap::Ptr affine = source->transform().baseMap()->getAffineMap();
     if (!affine) throw Error(context + ": the volume's transform is not affine");
     // OpenVDB multiplies row vectors (world = index · M): the object map in that form.
     openvdb::math::Mat4d object = openvdb::math::Mat4d::identity();
@@ -196,7 +208,7 @@ openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform
         for (int c = 0; c < 3; ++c) object[r][c] = t.linear[c][r];
     for (int c = 0; c < 3; ++c) object[3][c] = t.translation[c];
     const openvdb::math::Mat4d total = affine->getMat4() * object;
-    openvdb::FloatGrid::Ptr grid = volume.grid->copy();  // shares the tree
+    openvdb::FloatGrid::Ptr grid = source->copy();  // shares the tree
     try {
         grid->setTransform(openvdb::math::Transform::createLinearTransform(total));
     } catch (const openvdb::Exception&) {
@@ -212,18 +224,49 @@ openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform
     return grid;
 }
 
-// World bounding box of a grid's active voxels (their centres ± half a voxel).
-void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
-    const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
+openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform& t,
+                                     const std::string& context) {
+    return placeInWorld(volume.grid, t, context);
+}
+
+// The grid an object is made of, in scene world: its volume's; for a label object (source.labels,
+// volume/labels.h) the anti-aliased indicator of its labels (iso-surfaces, surfaced at 0.5) or
+// their mask (volumes), built now from the one loaded map.
+openvdb::FloatGrid::Ptr objectGrid(const ObjectSpec& object, const Volume& volume,
+                                   const std::string& context) {
+    if (object.source.labels.empty()) return placeInWorld(volume, object.transform, context);
+    const std::shared_ptr<const LabelMap> map = loadLabelMap(object.source.path);
+    const openvdb::FloatGrid::Ptr grid =
+        object.kind == ObjectSpec::Kind::IsoSurface
+            ? labelSurfaceField(*map, object.source.labels, object.source.labelSmooth)
+            : labelMask(*map, object.source.labels);
+    return placeInWorld(grid, object.transform, context);
+}
+
+// World bounding box of an index box of voxels (their centres ± half a voxel).
+void growByIndexBox(const openvdb::math::Transform& transform, const openvdb::CoordBBox& box,
+                    Vec3& lo, Vec3& hi) {
     if (box.empty()) return;
     for (int corner = 0; corner < 8; ++corner) {
         const openvdb::Vec3d idx((corner & 1) ? box.max().x() + 0.5 : box.min().x() - 0.5,
                                  (corner & 2) ? box.max().y() + 0.5 : box.min().y() - 0.5,
                                  (corner & 4) ? box.max().z() + 0.5 : box.min().z() - 0.5);
-        const openvdb::Vec3d w = grid.transform().indexToWorld(idx);
+        const openvdb::Vec3d w = transform.indexToWorld(idx);
         lo = Vec3(std::min(lo.x, w.x()), std::min(lo.y, w.y()), std::min(lo.z, w.z()));
         hi = Vec3(std::max(hi.x, w.x()), std::max(hi.y, w.y()), std::max(hi.z, w.z()));
     }
+}
+
+// World bounding box of a grid's active voxels.
+void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
+    growByIndexBox(grid.transform(), grid.evalActiveVoxelBoundingBox(), lo, hi);
+}
+
+// An object's world box (framing.h): its active voxels', or for a label object its labels' voxels'.
+void growByObjectBox(const ObjectSpec& object, const openvdb::FloatGrid& placed, Vec3& lo, Vec3& hi) {
+    if (object.source.labels.empty()) return growByGridBox(placed, lo, hi);
+    growByIndexBox(placed.transform(), loadLabelMap(object.source.path)->boxOf(object.source.labels),
+                   lo, hi);
 }
 
 // The "levelset" method: a level-set source (grid class GRID_LEVEL_SET, e.g. a .vdb from
@@ -283,7 +326,7 @@ std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache
             spec.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
         const openvdb::FloatGrid::Ptr grid =
             placeInWorld(*cache.get(object.source), object.transform, context);
-        growByGridBox(*grid, boxes[i].lo, boxes[i].hi);
+        growByObjectBox(object, *grid, boxes[i].lo, boxes[i].hi);
     }
     return boxes;
 }
@@ -316,35 +359,52 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
     Vec3 lo(kInf), hi(-kInf);
     std::vector<WorldBox>& objectBoxes = objectBoxes_;  // for camera.fit (framing.h)
     objectBoxes.assign(spec_.objects.size(), WorldBox());
+    const auto contextOf = [&](size_t i) {
+        return spec_.path + ": objects[" + std::to_string(i) + "] (" + spec_.objects[i].name + ")";
+    };
+    // The surfaces first, built in parallel (a segmentation's labels are many small, independent
+    // surfaces); each is deterministic, and they are added below in object order.
+    std::vector<std::shared_ptr<const SurfaceGeometry>> geometries(spec_.objects.size());
+    std::vector<std::string> failures(spec_.objects.size());
+    tbb::parallel_for(size_t(0), spec_.objects.size(), [&](size_t i) {
+        const ObjectSpec& object = spec_.objects[i];
+        if (object.kind != ObjectSpec::Kind::IsoSurface) return;
+        try {
+            const openvdb::FloatGrid::Ptr grid = objectGrid(object, *volumes.get(object.source), contextOf(i));
+            if (object.method == "mesh") {
+                geometries[i] = std::make_shared<IsoMeshSurface>(*grid, object.iso, object.name);
+            } else if (object.method == "levelset") {
+                geometries[i] = levelSetOf(grid, object);
+            } else
+                geometries[i] = std::make_shared<IsoExactSurface>(*grid, object.iso, object.name);
+        } catch (const std::exception& e) {
+            failures[i] = contextOf(i) + ": " + e.what();
+        }
+    });
+    for (const std::string& failure : failures)
+        if (!failure.empty()) throw Error(failure);
     for (size_t i = 0; i < spec_.objects.size(); ++i) {
         const ObjectSpec& object = spec_.objects[i];
-        const std::string context =
-            spec_.path + ": objects[" + std::to_string(i) + "] (" + object.name + ")";
+        const std::string context = contextOf(i);
         const std::shared_ptr<const Volume> volume = volumes.get(object.source);
-        openvdb::FloatGrid::Ptr grid = placeInWorld(*volume, object.transform, context);
-        growByGridBox(*grid, objectBoxes[i].lo, objectBoxes[i].hi);
-        growByGridBox(*grid, lo, hi);
         const TangentAxes tangent = worldAxes(object);
         if (object.kind == ObjectSpec::Kind::IsoSurface) {
+            const openvdb::FloatGrid::Ptr placed = placeInWorld(*volume, object.transform, context);
+            growByObjectBox(object, *placed, objectBoxes[i].lo, objectBoxes[i].hi);
+            growByObjectBox(object, *placed, lo, hi);
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
-            std::shared_ptr<const SurfaceGeometry> geometry;
-            try {
-                if (object.method == "mesh") {
-                    geometry = std::make_shared<IsoMeshSurface>(*grid, object.iso, object.name);
-                } else if (object.method == "levelset") {
-                    geometry = levelSetOf(grid, object);
-                } else
-                    geometry = std::make_shared<IsoExactSurface>(*grid, object.iso, object.name);
-            } catch (const Error& e) {
-                throw Error(context + ": " + e.what());
-            }
-            const int id = surfaces_->add(geometry);
+            const int id = surfaces_->add(geometries[i]);
             if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
             surfaceObjects_.push_back({&object, int(i), tangent});
         } else {
+            openvdb::FloatGrid::Ptr grid = objectGrid(object, *volume, context);
+            growByObjectBox(object, *grid, objectBoxes[i].lo, objectBoxes[i].hi);
+            growByObjectBox(object, *grid, lo, hi);
             DvrSettings settings;
             settings.reconstruction = object.reconstruction == "bspline"
                                           ? Reconstruction::kCubicBSpline
+                                      : object.reconstruction == "nearest"
+                                          ? Reconstruction::kNearest
                                           : Reconstruction::kTrilinear;
             settings.gradient = object.gradient == "bspline" ? GradientMethod::kBSplineDerivative
                                                              : GradientMethod::kCentralDifferences;

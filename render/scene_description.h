@@ -31,6 +31,12 @@ struct VolumeSourceSpec {
     double divideByPercentile = 0.0;             // "divide_by": "p99": by that percentile (0: none)
     double background = 0.0;                     // file units: voxels ≤ this are inactive
     double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
+    // "labels": the source is a label map and the object the region whose label is in this set
+    // (volume/labels.h); empty: the voxel values themselves. Checked against the map at parse
+    // time (every label present, names from the table).
+    std::vector<int> labels;
+    double labelSmooth = 0.6;   // "label_smooth": σ of the indicator's anti-aliasing, in voxels
+    std::string labelTable;     // where the names came from ("" none), for messages
 };
 
 // Object-to-world map: world = linear · p + translation, p in the volume's own world space
@@ -76,8 +82,10 @@ struct ObjectSpec {
     std::vector<TfPercentile> transferPercentiles;
     std::vector<TfPoint> transferPoints;  // only with transferPercentiles
     std::string transferName;             // "scene.json: objects[0].transfer_function"
-    std::string reconstruction = "trilinear";  // trilinear | bspline
+    std::string reconstruction = "trilinear";  // trilinear | bspline | nearest
     std::string gradient = "central";          // central | bspline
+    // An object expanded from a "kind": "segmentation" entry: that entry's key path ("" else).
+    std::string segmentation;
 };
 
 struct BackdropSpec {
@@ -112,6 +120,9 @@ struct ZoomSpec {
     double size = 0.0;   // Point: world units across the crop's shorter side at the point's depth
     Vec3 lo{0.0}, hi{0.0};  // Box
     double margin = 1.1;    // Box: the box's projection fills 1/margin of the crop
+    // Box from objects: the world box of these objects (a label object's is its labels' own),
+    // set at scene assembly (render/framing.cpp, resolveView).
+    std::vector<std::string> objects;
 };
 
 // Lights placed relative to the camera at scene assembly (render/framing.h).

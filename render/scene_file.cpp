@@ -5,6 +5,7 @@
 #include "core/nearest_name.h"
 #include "materials/registry.h"
 #include "render/framing.h"
+#include "render/scene_labels.h"
 #include "volume/volume_layout.h"
 
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -166,7 +168,9 @@ std::string unreachable(const std::string& p) {
     return ec ? ": " + ec.message() : " does not exist";
 }
 
-VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
+// `segmentation`: the source of a "kind": "segmentation" object, a label map whose labels the
+// object lists (its own "labels" key), so label_table and label_smooth need no source.labels.
+VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentation = false) {
     VolumeSourceSpec s;
     // "path": one file or folder; or an array of files, the slices of one DICOM series.
     if (r.has("path") && r.raw("path").is_array()) {
@@ -223,6 +227,36 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir) {
         s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
     s.blurFwhmMm = r.number("blur_fwhm_mm", 0.0, 0.0, 100.0);
     s.background = r.number("background", 0.0, -1e12, 1e12);
+    // A label map (volume/labels.h, render/scene_labels.h): loaded and checked now.
+    if (segmentation && r.has("labels"))
+        r.fail(r.at("labels"), "a segmentation lists its labels in the object's own \"labels\"");
+    if (segmentation || r.has("labels") || r.has("label_table") || r.has("label_smooth")) {
+        if (!segmentation && !r.has("labels"))
+            r.fail(r.at(r.has("label_table") ? "label_table" : "label_smooth"),
+                   "applies to a label map: give \"labels\" too");
+        for (const char* key : {"divide_by", "blur_fwhm_mm", "background", "dims", "type", "endian",
+                                "spacing", "series"})
+            if (r.has(key))
+                r.fail(r.at(key), "not with labels: a label map is read as its file stores it (a "
+                                  "header format: .nii, .nii.gz, .mgh, .mgz, .nhdr, .vdb)");
+        if (!s.morePaths.empty()) r.fail(r.at("path"), "a label map is one file");
+        s.labelSmooth = r.number("label_smooth", kLabelSmoothDefault, 0.0, 4.0);
+        LabelSource labels;
+        try {
+            labels = openLabelSource(s.path, r.has("label_table") ? &r.raw("label_table") : nullptr,
+                                     baseDir);
+        } catch (const Error& e) {
+            r.fail(r.at(r.has("label_table") ? "label_table" : "path"), e.what());
+        }
+        s.labelTable = labels.table.source;
+        if (r.has("labels")) {
+            try {
+                s.labels = labelIdsOf(r.raw("labels"), labels, false);
+            } catch (const Error& e) {
+                r.fail(r.at("labels"), e.what());
+            }
+        }
+    }
     r.finish();
     return s;
 }
@@ -367,8 +401,8 @@ void readTransfer(Reader r, ObjectSpec& o) {
 ObjectSpec readObject(Reader r, const std::string& baseDir) {
     ObjectSpec o;
     o.name = r.string("name", r.path());
-    const std::string kind = r.string("kind", "", {"isosurface", "volume"});
-    if (kind.empty()) r.fail(r.at("kind"), "missing (isosurface or volume)");
+    const std::string kind = r.string("kind", "", {"isosurface", "volume", "segmentation"});
+    if (kind.empty()) r.fail(r.at("kind"), "missing (isosurface, volume or segmentation)");
     o.kind = kind == "volume" ? ObjectSpec::Kind::Volume : ObjectSpec::Kind::IsoSurface;
     if (!r.has("source")) r.fail(r.at("source"), "missing");
     o.source = readSource(r.child("source"), baseDir);
@@ -380,8 +414,15 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     if (!(o.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
     o.tangentAxis.normalize();
     o.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
-    if (o.kind == ObjectSpec::Kind::IsoSurface) {
+    if (o.kind == ObjectSpec::Kind::IsoSurface && !o.source.labels.empty()) {
+        // The surface of a label set is its anti-aliased indicator's 0.5 level (volume/labels.h).
+        if (r.has("iso"))
+            r.fail(r.at("iso"), "not with source.labels: the surface of a label set is the 0.5 "
+                                "level of its smoothed indicator (set source.label_smooth)");
+    } else if (o.kind == ObjectSpec::Kind::IsoSurface) {
         if (!r.has("iso")) r.fail(r.at("iso"), "missing (the iso value)");
+    }
+    if (o.kind == ObjectSpec::Kind::IsoSurface) {
         o.iso = r.number("iso", 0.5, -1e12, 1e12);
         o.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
         if (o.method == "levelset") {
@@ -394,11 +435,102 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     } else {
         if (!r.has("transfer_function")) r.fail(r.at("transfer_function"), "missing");
         readTransfer(r.child("transfer_function"), o);
-        o.reconstruction = r.string("reconstruction", "trilinear", {"trilinear", "bspline"});
+        o.reconstruction = r.string("reconstruction", "trilinear", {"trilinear", "bspline", "nearest"});
         o.gradient = r.string("gradient", "central", {"central", "bspline"});
     }
     r.finish();
     return o;
+}
+
+// "kind": "segmentation": one iso-surface object per label of a label map, named and coloured
+// from its label table, with per-label "overrides" by name (docs/scene-format.md, "Labels").
+void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSpec>& out) {
+    r.string("kind", "");
+    const std::string where = r.path();
+    const std::string prefix = r.string("name", "");
+    if (!r.has("source")) r.fail(r.at("source"), "missing (the label map)");
+    ObjectSpec base;
+    base.kind = ObjectSpec::Kind::IsoSurface;
+    base.source = readSource(r.child("source"), baseDir, true);
+    base.segmentation = where;
+    // The map (loaded once) and the table readSource accepted, for the names and colours.
+    const Json& sourceJson = r.raw("source");
+    const LabelSource named = openLabelSource(
+        base.source.path, sourceJson.contains("label_table") ? &sourceJson["label_table"] : nullptr,
+        baseDir);
+    if (!r.has("labels"))
+        r.fail(r.at("labels"), "missing (\"all\" or a list of label numbers or names)");
+    std::vector<int> ids;
+    try {
+        ids = labelIdsOf(r.raw("labels"), named, true);
+    } catch (const Error& e) {
+        r.fail(r.at("labels"), e.what());
+    }
+    if (r.has("transform")) base.transform = readTransform(r.child("transform"));
+    if (!r.has("brdf")) r.fail(r.at("brdf"), "missing (the labels' BRDF: {\"model\": NAME, …})");
+    readBrdf(r.child("brdf"), base);
+    base.material.kd = r.bands("kd", Spectrum(0.2), 0.0, 1.0);
+    base.tangentAxis = r.vec3("tangent_axis", Vec3(0, 0, 1));
+    if (!(base.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
+    base.tangentAxis.normalize();
+    base.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
+    base.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
+    if (base.method == "levelset") {
+        base.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
+        base.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);
+        base.levelSetSmooth = r.integer("levelset_smooth", 0, 0, 1000);
+    }
+    base.opacity = r.number("opacity", 1.0, 0.0, 1.0);
+    const bool colourGiven = r.has("color");
+    base.color = r.bands("color", Spectrum(1.0), 0.0, 1e6);
+    // Overrides by label name (or number): {"Hippocampus_L": {"brdf": …, "opacity": …}}.
+    std::map<int, std::string> overrides;  // label → key
+    if (r.has("overrides")) {
+        const Json& o = r.raw("overrides");
+        if (!o.is_object()) r.fail(r.at("overrides"), "expected an object {\"label name\": {…}}");
+        for (auto it = o.begin(); it != o.end(); ++it) {
+            const std::string& key = it.key();
+            const bool number = !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+            int id = -1;
+            try {
+                id = labelIdsOf(number ? Json(std::stoll(key)) : Json(key), named, false).front();
+            } catch (const Error& e) {
+                r.fail(r.at("overrides") + "." + key, e.what());
+            } catch (const std::out_of_range&) {
+                r.fail(r.at("overrides") + "." + key, "not a label number");
+            }
+            if (std::find(ids.begin(), ids.end(), id) == ids.end())
+                r.fail(r.at("overrides") + "." + key, "label " + std::to_string(id) +
+                                                          " is not one of this segmentation's labels");
+            if (overrides.count(id))
+                r.fail(r.at("overrides") + "." + key, "label " + std::to_string(id) + " is overridden twice");
+            overrides[id] = key;
+        }
+    }
+    for (int id : ids) {
+        ObjectSpec o = base;
+        o.name = (prefix.empty() ? "" : prefix + ": ") + labelName(named, id);
+        o.source.labels = {id};
+        if (!colourGiven) o.color = labelColour(named, id, Spectrum(1.0));
+        const auto ov = overrides.find(id);
+        if (ov != overrides.end()) {
+            Reader v(r.raw("overrides").at(ov->second), r.at("overrides") + "." + ov->second, r.file());
+            if (v.has("brdf")) readBrdf(v.child("brdf"), o);
+            o.material.kd = v.bands("kd", o.material.kd, 0.0, 1.0);
+            o.opacity = v.number("opacity", o.opacity, 0.0, 1.0);
+            o.color = v.bands("color", o.color, 0.0, 1e6);
+            o.highlightTakesLight = v.string("highlight", o.highlightTakesLight ? "light" : "colour",
+                                             {"light", "colour"}) == "light";
+            if (v.has("tangent_axis")) {
+                o.tangentAxis = v.vec3("tangent_axis", o.tangentAxis);
+                if (!(o.tangentAxis.length() > 0)) v.fail(v.at("tangent_axis"), "must not be the zero vector");
+                o.tangentAxis.normalize();
+            }
+            v.finish();
+        }
+        out.push_back(std::move(o));
+    }
+    r.finish();
 }
 
 
@@ -457,8 +589,23 @@ void checkCropAspect(const Reader& cam, const CropWindow& c) {
 // "zoom": {"point": [x, y, z], "size": s} or {"box": [[x0, y0, z0], [x1, y1, z1]], "margin": m}
 // in world coordinates (render/framing.h, zoomCrop).
 void readZoom(Reader z, ZoomSpec& zoom) {
-    if (z.has("point") == z.has("box"))
-        z.fail(z.path(), "give either point (with size) or box");
+    if (int(z.has("point")) + int(z.has("box")) + int(z.has("objects")) != 1)
+        z.fail(z.path(), "give either point (with size), box or objects");
+    if (z.has("objects")) {  // the world box of these objects (e.g. a label of an atlas)
+        zoom.kind = ZoomSpec::Kind::Box;
+        const Json& o = z.raw("objects");
+        if (o.is_string()) zoom.objects.push_back(o.get<std::string>());
+        else if (o.is_array() && !o.empty())
+            for (const Json& n : o) {
+                if (!n.is_string()) z.fail(z.at("objects"), "expected names (strings), got " + n.dump());
+                zoom.objects.push_back(n.get<std::string>());
+            }
+        else
+            z.fail(z.at("objects"), "expected an object's name or a non-empty array of names");
+        zoom.margin = z.number("margin", 1.1, 1.0, 100.0);
+        z.finish();
+        return;
+    }
     if (z.has("point")) {
         zoom.kind = ZoomSpec::Kind::Point;
         zoom.center = z.vec3("point", Vec3(0));
@@ -716,10 +863,32 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     if (objects.size() > kMaxObjects)
         r.fail("objects", std::to_string(objects.size()) + " objects; a scene holds at most " +
                               std::to_string(kMaxObjects));
-    for (size_t i = 0; i < objects.size(); ++i)
-        scene.objects.push_back(
-            readObject(Reader(objects[i], "objects[" + std::to_string(i) + "]", name), baseDir));
-    for (const std::string& wanted : scene.fit.objects) {
+    for (size_t i = 0; i < objects.size(); ++i) {
+        const Reader o(objects[i], "objects[" + std::to_string(i) + "]", name);
+        if (objects[i].contains("kind") && objects[i]["kind"] == "segmentation")
+            readSegmentation(o, baseDir, scene.objects);
+        else
+            scene.objects.push_back(readObject(o, baseDir));
+    }
+    if (scene.objects.size() > kMaxObjects)
+        r.fail("objects", "the segmentations expand to " + std::to_string(scene.objects.size()) +
+                              " objects; a scene holds at most " + std::to_string(kMaxObjects));
+    {  // A label is one object's: two objects claiming it would draw one region twice.
+        std::map<std::pair<std::string, int>, size_t> claimed;
+        for (size_t i = 0; i < scene.objects.size(); ++i)
+            for (int id : scene.objects[i].source.labels) {
+                const auto key = std::make_pair(scene.objects[i].source.path, id);
+                const auto [it, fresh] = claimed.emplace(key, i);
+                if (!fresh)
+                    r.fail("objects", "'" + scene.objects[it->second].name + "' and '" +
+                                          scene.objects[i].name + "' both claim label " +
+                                          std::to_string(id) + " of " + key.first +
+                                          " (a label belongs to one object)");
+            }
+    }
+    std::vector<std::string> named = scene.fit.objects;
+    named.insert(named.end(), scene.zoom.objects.begin(), scene.zoom.objects.end());
+    for (const std::string& wanted : named) {
         std::string names;
         bool found = false;
         for (const ObjectSpec& o : scene.objects) {
@@ -727,7 +896,11 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
             names += (names.empty() ? "" : ", ") + o.name;
         }
         if (!found)
-            r.fail("camera.fit.objects", "no object is named '" + wanted + "' (objects: " + names + ")");
+            r.fail(std::find(scene.fit.objects.begin(), scene.fit.objects.end(), wanted) !=
+                           scene.fit.objects.end()
+                       ? "camera.fit.objects"
+                       : "camera.zoom.objects",
+                   "no object is named '" + wanted + "' (objects: " + names + ")");
     }
     r.finish();
     return scene;

@@ -48,6 +48,12 @@ void convolveAxis(std::vector<float>& data, const std::array<int, 3>& n, int axi
 
 }  // namespace
 
+void gaussianBlurDense(std::vector<float>& data, const std::array<int, 3>& dims,
+                       const std::array<double, 3>& sigmaVoxels) {
+    for (int a = 0; a < 3; ++a)
+        if (sigmaVoxels[a] > 0.0) convolveAxis(data, dims, a, gaussianKernel(sigmaVoxels[a]));
+}
+
 void gaussianBlurFwhm(Volume& volume, double fwhm) {
     if (!(fwhm >= 0.0) || !std::isfinite(fwhm))
         throw Error(volume.sourcePath + ": blur FWHM must be a finite number >= 0");

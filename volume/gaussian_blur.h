@@ -14,9 +14,18 @@
 
 #include "volume/volume.h"
 
+#include <array>
+#include <vector>
+
 namespace lobe {
 
 // Throws lobe::Error naming the volume's file for fwhm < 0 or an oblique index → world map.
 void gaussianBlurFwhm(Volume& volume, double fwhmWorld);
+
+// The same separable convolution on a dense array (dims[0]·dims[1]·dims[2] values, x fastest),
+// with a sampled, normalised Gaussian of σ = sigmaVoxels[axis] voxels along each axis (0: that
+// axis is left alone), truncated at 4σ, zeros outside the array.
+void gaussianBlurDense(std::vector<float>& data, const std::array<int, 3>& dims,
+                       const std::array<double, 3>& sigmaVoxels);
 
 }  // namespace lobe

@@ -11,7 +11,9 @@
 namespace lobe {
 
 const char* reconstructionName(Reconstruction r) {
-    return r == Reconstruction::kTrilinear ? "trilinear" : "cubic-bspline";
+    return r == Reconstruction::kTrilinear ? "trilinear"
+           : r == Reconstruction::kNearest ? "nearest"
+                                           : "cubic-bspline";
 }
 
 const char* gradientMethodName(GradientMethod g) {
@@ -346,7 +348,7 @@ double GridReconstructor::valueAndGradient(Reconstruction r, GradientMethod g, c
         if (g == GradientMethod::kCentralDifferences) gradient = centralDifferences(p);
         return v;
     }
-    const double v = trilinear(p);
+    const double v = r == Reconstruction::kNearest ? nearest(p) : trilinear(p);
     if (g == GradientMethod::kBSplineDerivative)
         bsplineWithGradient(p, gradient);
     else

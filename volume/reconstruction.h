@@ -43,7 +43,10 @@
 
 namespace lobe {
 
-enum class Reconstruction { kTrilinear, kCubicBSpline };
+// kNearest: the value of the voxel whose centre is nearest (floor(p + ½) per axis): for volumes
+// of labels, where an interpolated value between labels a and b is a third label's value.
+// Its gradient is the trilinear field's central differences (a shading normal).
+enum class Reconstruction { kTrilinear, kCubicBSpline, kNearest };
 enum class GradientMethod { kCentralDifferences, kBSplineDerivative };
 
 const char* reconstructionName(Reconstruction r);
@@ -82,6 +85,10 @@ public:
         : acc_(grid.getConstAccessor()), dense_(dense) {}
 
     double trilinear(const Vec3& p);
+    double nearest(const Vec3& p) {
+        return acc_.getValue(openvdb::Coord(int(std::floor(p.x + 0.5)), int(std::floor(p.y + 0.5)),
+                                            int(std::floor(p.z + 0.5))));
+    }
     double bspline(const Vec3& p);
     // B-spline value and its analytic index-space gradient from one 4³ fetch.
     double bsplineWithGradient(const Vec3& p, Vec3& gradient);
@@ -89,7 +96,9 @@ public:
     Vec3 centralDifferences(const Vec3& p);
 
     double value(Reconstruction r, const Vec3& p) {
-        return r == Reconstruction::kTrilinear ? trilinear(p) : bspline(p);
+        return r == Reconstruction::kTrilinear ? trilinear(p)
+               : r == Reconstruction::kNearest ? nearest(p)
+                                               : bspline(p);
     }
     // The B-spline at o + d·t, for many t along one ray. Inside one voxel cell the field along
     // the ray is a polynomial of degree 9 in t (each weight is a cubic in t); it is built once

@@ -185,6 +185,10 @@ Volume loadNrrd(const std::string& path, const LoadOptions& options) {
     return buildVolume(detail::readNrrdDense(path), path, options);
 }
 
+Volume loadMgh(const std::string& path, const LoadOptions& options) {
+    return buildVolume(detail::readMghDense(path), path, options);
+}
+
 Volume loadVdb(const std::string& path, const LoadOptions& options) {
     initializeOpenVdb();
     const detail::VdbLayout layout = detail::checkVdbSizeFields(path);
@@ -351,6 +355,8 @@ Volume loadVolume(const std::string& path, const LoadOptions& options) {
     using detail::endsWith;
     if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) return loadNifti(path, options);
     if (endsWith(path, ".nhdr")) return loadNrrd(path, options);
+    if (endsWith(path, ".mgh") || endsWith(path, ".mgz") || endsWith(path, ".mgh.gz"))
+        return loadMgh(path, options);
     if (endsWith(path, ".vdb")) return loadVdb(path, options);
     // A folder or a file with the DICOM magic, whatever its name (DICOM files are often named
     // IM0001 or by their UID): never raw voxels.
@@ -362,7 +368,7 @@ Volume loadVolume(const std::string& path, const LoadOptions& options) {
     if (!options.hasLayout)
         throw Error(path + ": a headerless (raw) volume needs its layout: give --dims X,Y,Z, "
                            "--type, --endian and --spacing (known formats: .nii, .nii.gz, .nhdr, "
-                           ".vdb, DICOM series as a folder or files)");
+                           ".mgh, .mgz, .vdb, DICOM series as a folder or files)");
     RawLayout layout = options.layout;
     layout.gzip = endsWith(path, ".gz");
     return loadRaw(path, layout, options);

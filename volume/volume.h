@@ -62,10 +62,12 @@ Volume loadRaw(const std::string& path, const RawLayout& layout, const LoadOptio
 Volume loadNifti(const std::string& path, const LoadOptions& options = {});
 Volume loadNrrd(const std::string& path, const LoadOptions& options = {});  // detached .nhdr
 Volume loadVdb(const std::string& path, const LoadOptions& options = {});
+// FreeSurfer .mgh (.mgz gzip-compressed): header, vox2ras affine (volume_file.cpp, readMghDense).
+Volume loadMgh(const std::string& path, const LoadOptions& options = {});
 // A DICOM series from folders or files (volume/dicom_file.h: sorting, checks, LPS → RAS, rescale);
 // options.series picks one series by SeriesInstanceUID. A raw layout in options is an error.
 Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& options = {});
-// Dispatches on the name: .nii / .nii.gz, .nhdr, .vdb; a folder, or a file with the DICOM magic
+// Dispatches on the name: .nii / .nii.gz, .nhdr, .mgh / .mgz, .vdb; a folder, or a file with the DICOM magic
 // ('DICM' at byte 128, whatever its name), is a DICOM series; otherwise raw (.raw, .raw.gz, …),
 // which needs options.hasLayout. A DICOM file is never read as raw voxels.
 Volume loadVolume(const std::string& path, const LoadOptions& options = {});

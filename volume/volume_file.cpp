@@ -525,6 +525,85 @@ DenseVolume readNiftiDense(const std::string& path) {
     return v;
 }
 
+// ---- FreeSurfer MGH / MGZ ----------------------------------------------------------------------
+// The layout of FreeSurfer's mghRead/mghWrite (utils/mriio.c; the same fields as nibabel's
+// nibabel/freesurfer/mghformat.py), all big-endian, the voxels at byte 284:
+//   0 version (int32, 1)   4 width, height, depth, nframes (int32)   20 type (int32: 0 uchar,
+//   1 int32, 3 float32, 4 int16)   24 dof   28 goodRASFlag (int16)   30 delta[3] (float, voxel
+//   sizes)   42 Mdc[3][3] (float: row i the direction cosines of index axis i)   78 Pxyz_c[3]
+//   (float, the RAS of the volume's centre).
+// The voxel data is x fastest (column-major), then an optional footer (scan parameters, tags),
+// which is not read. .mgz is the same gzip-compressed.
+// vox2ras (nibabel's MGHHeader.get_affine, FreeSurfer's extract_i_to_r): M = Mdcᵀ · diag(delta),
+// translation Pxyz_c − M · dims/2 (FreeSurfer's centre voxel is dims/2, not (dims − 1)/2).
+// With goodRASFlag 0 the fields are not valid and FreeSurfer's default applies: delta 1,
+// Mdc rows (−1, 0, 0), (0, 0, 1), (0, −1, 0), Pxyz_c 0 (a coronal conformed volume).
+DenseVolume readMghDense(const std::string& path) {
+    constexpr std::int64_t kDataOffset = 284;
+    const bool gz = endsWith(path, ".mgz") || endsWith(path, ".gz");
+    if (gz) {  // the name promises gzip (RFC 1952 §2.3.1 magic 1f 8b)
+        std::ifstream probe(path, std::ios::binary);
+        if (!probe) throw Error(path + ": cannot open the file (" + std::strerror(errno) + ")");
+        unsigned char magic[2] = {0, 0};
+        probe.read(reinterpret_cast<char*>(magic), 2);
+        if (probe.gcount() < 2 || magic[0] != 0x1f || magic[1] != 0x8b)
+            throw Error(path + ": not a gzip-compressed FreeSurfer volume: the name says .mgz but "
+                               "the gzip magic 1f 8b is missing (an uncompressed MGH file is "
+                               "named .mgh)");
+    }
+    const std::vector<unsigned char> head = readFileBytes(path, gz, size_t(kDataOffset), "header", true);
+    if (head.size() < size_t(kDataOffset))
+        throw Error(path + ": truncated: " + std::to_string(head.size()) +
+                    " bytes, shorter than the 284-byte FreeSurfer MGH header");
+    const HeaderReader r(head.data(), hostIsLittleEndian());  // MGH is big-endian
+    if (r.i32(0) != 1)
+        throw Error(path + ": not a FreeSurfer MGH" + std::string(gz ? "Z" : "") +
+                    " file (its version field is " + std::to_string(r.i32(0)) + ", expected 1)");
+    const std::array<int, 3> dims{r.i32(4), r.i32(8), r.i32(12)};
+    const int frames = r.i32(16);
+    if (frames != 1)
+        throw Error(path + ": the header describes " + std::to_string(frames) +
+                    " frames; only 3-D volumes (1 frame) are supported");
+    const int code = r.i32(20);
+    VoxelType type;
+    switch (code) {
+        case 0: type = VoxelType::kUint8; break;
+        case 1: type = VoxelType::kInt32; break;
+        case 3: type = VoxelType::kFloat32; break;
+        case 4: type = VoxelType::kInt16; break;
+        default:
+            throw Error(path + ": unknown or unsupported MGH data type " + std::to_string(code) +
+                        " (supported: 0 uchar, 1 int, 3 float, 4 short)");
+    }
+    const size_t end = dataEnd(kDataOffset, dims, type);
+    std::vector<unsigned char> bytes = readFileBytes(path, gz, end, "header", true);
+    if (bytes.size() > end) bytes.resize(end);  // the footer
+    DenseVolume v = decodeVoxels(path, bytes, kDataOffset, dims, type, Endian::kBig, 1.0, 0.0,
+                                 "header");
+    double delta[3] = {1, 1, 1}, mdc[3][3] = {{-1, 0, 0}, {0, 0, 1}, {0, -1, 0}}, c[3] = {0, 0, 0};
+    if (r.i16(28) != 0) {
+        for (int a = 0; a < 3; ++a) delta[a] = r.f32(30 + 4 * a);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) mdc[i][j] = r.f32(42 + 12 * i + 4 * j);
+        for (int a = 0; a < 3; ++a) c[a] = r.f32(78 + 4 * a);
+    }
+    for (int row = 0; row < 3; ++row) {
+        double centre = 0.0;
+        for (int col = 0; col < 3; ++col) {
+            v.affine[row][col] = mdc[col][row] * delta[col];
+            centre += v.affine[row][col] * dims[col] / 2.0;
+        }
+        v.affine[row][3] = c[row] - centre;
+    }
+    for (const auto& row : v.affine)
+        for (double x : row)
+            if (!std::isfinite(x)) throw Error(path + ": the header's orientation is not finite");
+    if (nearlySingular(v.affine))
+        throw Error(path + ": the header's voxel-to-world map is singular or nearly so (a zero "
+                           "voxel size, or axes almost parallel)");
+    return v;
+}
+
 // ---- NRRD (detached header, the simple kind) ---------------------------------------------------
 // Teem's NRRD format, version 4/5 (http://teem.sourceforge.net/nrrd/format.html): a magic line
 // "NRRD000n", then "field: value" lines up to a blank line or the end. We read type, dimension

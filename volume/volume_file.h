@@ -40,6 +40,7 @@ DenseVolume decodeVoxels(const std::string& path, const std::vector<unsigned cha
 DenseVolume readRawDense(const std::string& path, const RawLayout& layout);
 DenseVolume readNiftiDense(const std::string& path);
 DenseVolume readNrrdDense(const std::string& path);
+DenseVolume readMghDense(const std::string& path);  // FreeSurfer .mgh / .mgz
 
 bool endsWith(const std::string& s, const std::string& suffix);  // case-insensitive
 
