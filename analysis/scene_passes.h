@@ -16,7 +16,9 @@
 
 namespace lobe {
 
-SeparationLayers separationLayers(const SceneSpec& spec, const Film& beauty, const AovImage& aovs);
+// Per-object passes in display-linear sRGB (× the scene's exposure) with the scene's tone curve;
+// needs a render with AovRequest objects and backdrop.
+SeparationLayers separationLayers(const SceneSpec& spec, const AovImage& aovs);
 
 struct BrdfCandidate {
     std::string model;

@@ -80,24 +80,11 @@ std::vector<int> slotOfObject(const SceneSpec& spec) {
     return slot;
 }
 
-AssignmentLayers mergeMaps(const AssignmentLayers& in, const SceneSpec& spec) {
-    const std::vector<int> slot = slotOfObject(spec);
-    const int slots = *std::max_element(slot.begin(), slot.end()) + 1;
-    AssignmentLayers out;
-    out.width = in.width;
-    out.height = in.height;
-    out.candidates = in.candidates;
-    out.base = in.base;
-    out.objects.resize(size_t(slots));
-    const size_t m = in.candidates.size(), n = in.pixelCount();
-    out.specular.assign(size_t(slots) * m, std::vector<float>(n, 0.0f));
-    for (size_t o = 0; o < in.objects.size(); ++o) {
-        out.objects[size_t(slot[o])] = isMap(in.objects[o]) ? "density maps" : in.objects[o];
-        for (size_t c = 0; c < m; ++c)
-            for (size_t i = 0; i < n; ++i)
-                out.specular[size_t(slot[o]) * m + c][i] += in.layer(int(o), int(c))[i];
-    }
-    return out;
+AssignmentLayers mergeMaps(const AssignmentLayers& in, const SceneSpec&) {
+    std::vector<std::string> maps;
+    for (const std::string& o : in.objects())
+        if (isMap(o)) maps.push_back(o);
+    return maps.empty() ? in : mergeAssignmentObjects(in, "density maps", maps);
 }
 
 SeparationLayers mergeMapLayers(const SeparationLayers& l) {
@@ -122,8 +109,8 @@ double fullRenderScore(SceneSpec spec, const std::vector<BrdfCandidate>& candida
     AovRequest request;
     request.objects = request.backdrop = true;
     AovImage aovs;
-    const Film film = scene.render(options, nullptr, &request, &aovs);
-    return measureSeparation(mergeMapLayers(separationLayers(spec, film, aovs))).score;
+    scene.render(options, nullptr, &request, &aovs);
+    return measureSeparation(mergeMapLayers(separationLayers(spec, aovs))).score;
 }
 
 std::string label(const std::vector<BrdfCandidate>& c, const std::vector<int>& a) {
@@ -215,7 +202,7 @@ int main(int argc, char** argv) {
         const SpectrumEstimate a = directionalAlbedo(makeBrdf(nine[c].model), 0.0, 0.0, 16384, 8, 7);
         const double albedo = a.value.average(), k = albedo > 0.0 ? 0.1 / albedo : 1.0;
         std::printf("| %s | %.4f | %.3f |\n", nine[c].model.c_str(), albedo, k);
-        for (size_t o = 0; o < equal.objects.size(); ++o)
+        for (size_t o = 0; o < equal.objects().size(); ++o)
             for (float& v : equal.specular[o * nine.size() + c]) v = float(v * k);
     }
     std::printf("\n## The paper's 24 renderings among all 729 assignments\n\n"

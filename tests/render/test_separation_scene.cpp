@@ -37,16 +37,18 @@ fs::path ballFile() {
     return dir;
 }
 
-SceneSpec twoSpheres(double dx, const std::string& backModel = "phong") {
+SceneSpec twoSpheres(double dx, const std::string& backModel = "phong",
+                     const std::string& backColour = "1", const std::string& frontModel = "phong") {
     static const fs::path dir = ballFile();
-    auto sphere = [](const char* name, double tx, double tz, double opacity, const std::string& model) {
+    auto sphere = [](const char* name, double tx, double tz, double opacity, const std::string& model,
+                     const std::string& colour) {
         char buf[512];
         std::snprintf(buf, sizeof buf,
                       R"({"name": "%s", "kind": "isosurface", "source": {"path": "ball.raw",
                           "dims": [32, 32, 32], "type": "float32"}, "iso": 0.5,
                           "transform": {"translate": [%g, 0, %g]}, "opacity": %g,
-                          "brdf": {"model": "%s"}, "kd": 0.2})",
-                      name, tx, tz, opacity, model.c_str());
+                          "brdf": {"model": "%s"}, "kd": 0.2, "color": %s})",
+                      name, tx, tz, opacity, model.c_str(), colour.c_str());
         return std::string(buf);
     };
     const std::string json =
@@ -55,20 +57,24 @@ SceneSpec twoSpheres(double dx, const std::string& backModel = "phong") {
                        "up": [0, 1, 0], "fov_deg": 24},
             "lights": [{"position": [15.5, 15.5, -90], "intensity": 20000}],
             "backdrop": {"enabled": false}, "objects": [)" +
-        sphere("front", 0, -16, 0.5, "phong") + "," + sphere("back", dx, 0, 1.0, backModel) + "]}";
+        sphere("front", 0, -16, 0.5, frontModel, "1") + "," +
+        sphere("back", dx, 0, 1.0, backModel, backColour) + "]}";
     return parseScene(json, dir.string(), "two-spheres");
 }
 
-double scoreOf(const SceneSpec& spec) {
+SeparationReport reportOf(const SceneSpec& spec) {
     const RenderScene scene(spec, false);
     AovRequest request;
     request.objects = request.backdrop = true;
     RenderOptions options;
     options.progress = false;
     AovImage aovs;
-    const Film film = scene.render(options, nullptr, &request, &aovs);
-    return measureSeparation(separationLayers(spec, film, aovs)).score;
+    scene.render(options, nullptr, &request, &aovs);
+    return measureSeparation(separationLayers(spec, aovs));
 }
+
+// The highlight term alone (grey spheres: identity 1; the score also weighs visibility and veiling).
+double scoreOf(const SceneSpec& spec) { return reportOf(spec).highlight; }
 
 TEST(SeparationScene, HighlightsMovedApartScoreHigher) {
     const double behind = scoreOf(twoSpheres(0));
@@ -78,6 +84,32 @@ TEST(SeparationScene, HighlightsMovedApartScoreHigher) {
     EXPECT_LE(behind, half);
     EXPECT_LE(half, apart + 1e-9);
     EXPECT_GT(apart, 0.05);
+}
+
+TEST(SeparationScene, TheTranslucentFrontSphereVeilsTheRedOneBehind) {
+    // A red sphere half behind a grey translucent one (opacity 0.5), the front sphere with
+    // Phong's narrow highlight or Schlick–Lewis's broad bright one (albedo about 5× Phong's
+    // at these defaults: docs/separation.md). Nothing lies in front of the front sphere; its
+    // highlight lies over the red sphere, veils it and washes out its red, the more so the broader.
+    const std::string red = "[1, 0.08, 0.08]";
+    const SeparationReport narrow = reportOf(twoSpheres(6, "phong", red, "phong"));
+    const SeparationReport broad = reportOf(twoSpheres(6, "phong", red, "schlick_lewis"));
+    for (const SeparationReport* r : {&narrow, &broad}) {
+        EXPECT_EQ(r->objects[0].veiling, 0.0);
+        EXPECT_FALSE(r->objects[0].chromatic);
+        EXPECT_TRUE(r->objects[1].chromatic);
+        EXPECT_GT(r->objects[1].veiling, 0.0);
+    }
+    EXPECT_GT(broad.objects[1].veiling, 2.0 * narrow.objects[1].veiling);
+    EXPECT_LT(broad.objects[1].identity, narrow.objects[1].identity);
+    EXPECT_LT(broad.objects[1].chroma, narrow.objects[1].chroma);
+    EXPECT_LT(broad.objects[1].quality, narrow.objects[1].quality);
+    EXPECT_LT(broad.score, narrow.score) << broad.highlight << " " << narrow.highlight;
+    std::printf("narrow: highlight %.4f score %.4f W %.3f I %.3f C %.1f; broad: highlight %.4f "
+                "score %.4f W %.3f I %.3f C %.1f\n",
+                narrow.highlight, narrow.score, narrow.objects[1].veiling, narrow.objects[1].identity,
+                narrow.objects[1].chroma, broad.highlight, broad.score, broad.objects[1].veiling,
+                broad.objects[1].identity, broad.objects[1].chroma);
 }
 
 TEST(SeparationScene, AssignmentLayersReproduceAFullRender) {
@@ -98,7 +130,7 @@ TEST(SeparationScene, AssignmentLayersReproduceAFullRender) {
     // The front sphere keeps Phong (it is Phong in `spec` too); the back one takes each model.
     for (int c = 0; c < 3; ++c) {
         const double fromLayers = assignmentScore(layers, {0, c});
-        const double rendered = scoreOf(twoSpheres(8, candidates[size_t(c)].model));
+        const double rendered = reportOf(twoSpheres(8, candidates[size_t(c)].model)).score;
         EXPECT_NEAR(fromLayers, rendered, 1e-5 * rendered + 1e-7) << candidates[size_t(c)].model;
         EXPECT_GT(rendered, 0.0);
     }
