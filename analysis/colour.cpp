@@ -14,12 +14,12 @@ bool toneIsShoulder(const std::string& tone) {
     throw Error("unknown tone curve '" + tone + "' (expected clip or shoulder)");
 }
 
-double displayed(double x, bool shoulder) {
+double displayedShoulder(double x, bool shoulder) {
     if (!(x > 0.0)) return 0.0;  // also NaN
     return std::min(1.0, shoulder ? shoulderTone(x) : x);
 }
 
-double displayed(double x, const std::string& tone) { return displayed(x, toneIsShoulder(tone)); }
+double displayed(double x, const std::string& tone) { return displayedShoulder(x, toneIsShoulder(tone)); }
 
 Rgb3 srgbToLab(const Rgb3& c) {
     // IEC 61966-2-1 linear sRGB → XYZ (D65); the white (1,1,1) → the matrix's row sums.

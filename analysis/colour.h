@@ -24,8 +24,8 @@ inline double srgbLuminance(double r, double g, double b) {
 // A display-linear value as displayed: tone curve ("clip" or "shoulder"), then clipped to [0, 1].
 // Throws lobe::Error for an unknown curve.
 double displayed(double linear, const std::string& tone);
-// The same with the curve looked up once ("clip" → false, "shoulder" → true).
-double displayed(double linear, bool shoulder);
+// The same with the curve looked up once (toneIsShoulder: "clip" → false, "shoulder" → true).
+double displayedShoulder(double linear, bool shoulder);
 bool toneIsShoulder(const std::string& tone);
 
 // CIE 1976 L*a*b* (CIE 15:2004, §8.2.1) of displayed linear sRGB, white = the display's white

@@ -98,9 +98,9 @@ SeparationScorer::SeparationScorer(const SeparationLayers& l, double threshold,
     std::vector<double> idSum(k_, 0.0), idWeight(k_, 0.0);
     for (size_t i = 0; i < n_; ++i) {
         const double yBase = lum(&base_[3 * i]);
-        const Rgb3 baseLab = srgbToLab({displayed(base_[3 * i], shoulder),
-                                        displayed(base_[3 * i + 1], shoulder),
-                                        displayed(base_[3 * i + 2], shoulder)});
+        const Rgb3 baseLab = srgbToLab({displayedShoulder(base_[3 * i], shoulder),
+                                        displayedShoulder(base_[3 * i + 1], shoulder),
+                                        displayedShoulder(base_[3 * i + 2], shoulder)});
         for (size_t o = 0; o < k_; ++o) {
             const float* L = &l.lambert[o][3 * i];
             const double y = lum(L);
@@ -113,8 +113,8 @@ SeparationScorer::SeparationScorer(const SeparationLayers& l, double threshold,
             matteShare_[o] += w * w;
             // The object's own colour at the matte pixel's luminance, as displayed.
             const double s = yBase / y;
-            const Rgb3 own = srgbToLab({displayed(L[0] * s, shoulder), displayed(L[1] * s, shoulder),
-                                        displayed(L[2] * s, shoulder)});
+            const Rgb3 own = srgbToLab({displayedShoulder(L[0] * s, shoulder), displayedShoulder(L[1] * s, shoulder),
+                                        displayedShoulder(L[2] * s, shoulder)});
             const double c = std::hypot(own[1], own[2]);
             if (c >= kAchromaticChroma) {
                 ownA_[j] = float(own[1] / c);
@@ -150,8 +150,8 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
         for (size_t o = 0; o < k_; ++o)
             for (int b = 0; b < 3; ++b) B[b] += specular[o][3 * i + size_t(b)];
         const double Y = srgbLuminance(B[0], B[1], B[2]);
-        const Rgb3 shown = {displayed(B[0], shoulder), displayed(B[1], shoulder),
-                            displayed(B[2], shoulder)};
+        const Rgb3 shown = {displayedShoulder(B[0], shoulder), displayedShoulder(B[1], shoulder),
+                            displayedShoulder(B[2], shoulder)};
         const Rgb3 lab = srgbToLab(shown);
         const double chroma = std::hypot(lab[1], lab[2]);
         Rgb3 ictcp{};
@@ -160,8 +160,8 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
             const float* S = specular[o] + 3 * i;
             ys[o] = lum(S);
             if (itp) {  // detection map: the pixel with and without the object's specular pass
-                const Rgb3 off = {displayed(B[0] - S[0], shoulder), displayed(B[1] - S[1], shoulder),
-                                  displayed(B[2] - S[2], shoulder)};
+                const Rgb3 off = {displayedShoulder(B[0] - S[0], shoulder), displayedShoulder(B[1] - S[1], shoulder),
+                                  displayedShoulder(B[2] - S[2], shoulder)};
                 c[o] = deltaEItp(ictcp, srgbToIctcp(off, l.peakLuminance));
             } else {
                 c[o] = Y > 0.0 ? double(float(ys[o] / Y)) : 0.0;
