@@ -1,14 +1,46 @@
 #include "analysis/assign.h"
 
+#include "analysis/colour.h"
 #include "analysis/separation.h"
 #include "core/error.h"
 #include "core/rng.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <set>
 
 namespace lobe {
+
+double sparkleShare(const float* rgb, int width, int height) {
+    const size_t n = size_t(width) * size_t(height);
+    std::vector<double> y(n);
+    double maxY = 0.0, total = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        y[i] = srgbLuminance(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+        maxY = std::max(maxY, y[i]);
+        total += y[i];
+    }
+    if (!(total > 0.0)) return 0.0;
+    double specks = 0.0;
+    for (int py = 0; py < height; ++py)
+        for (int px = 0; px < width; ++px) {
+            const double v = y[size_t(py) * size_t(width) + size_t(px)];
+            if (!(v > 0.01 * maxY)) continue;
+            double neighbour = 0.0;
+            int count = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = px + dx, yy = py + dy;
+                    if ((dx || dy) && x >= 0 && yy >= 0 && x < width && yy < height) {
+                        neighbour += y[size_t(yy) * size_t(width) + size_t(x)];
+                        ++count;
+                    }
+                }
+            if (count > 0 && v > kSparklePeak * neighbour / count) specks += v;
+        }
+    return specks / total;
+}
 
 AssignmentLayers mergeAssignmentObjects(const AssignmentLayers& in, const std::string& name,
                                         const std::vector<std::string>& members) {
@@ -126,7 +158,9 @@ std::vector<std::vector<int>> choicesPerObject(const AssignmentLayers& layers,
             continue;
         }
         for (size_t c = 0; c < m; ++c)
-            if (o.allowed.empty() || o.allowed[c]) choices[i].push_back(int(c));
+            if ((o.allowed.empty() || o.allowed[c]) &&
+                (i >= o.objectAllowed.size() || o.objectAllowed[i].empty() || o.objectAllowed[i][c]))
+                choices[i].push_back(int(c));
         if (choices[i].empty())
             throw Error("assign: no candidate BRDF left for object '" + layers.objects()[i] + "'");
     }

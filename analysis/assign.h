@@ -29,6 +29,16 @@ struct AssignmentLayers {
     }
 };
 
+// Sparkle: a highlight narrower than a pixel shows as isolated specks. The share of a specular
+// layer's luminance (rgb triples, width × height) in pixels brighter than kSparklePeak × the
+// mean of their 8 neighbours (and above 1 % of the layer's maximum, so that noise in dark
+// pixels does not count): 0 for a highlight spread over several pixels, near 1 for specks.
+constexpr double kSparklePeak = 4.0;
+// `lobe assign` does not offer a candidate for an object when more than this share of its
+// highlight there is specks.
+constexpr double kSparkleLimit = 0.25;
+double sparkleShare(const float* rgb, int width, int height);
+
 // The layers with `members` summed into one object `name` (analysis/separation.h mergeObjects).
 AssignmentLayers mergeAssignmentObjects(const AssignmentLayers& layers, const std::string& name,
                                         const std::vector<std::string>& members);
@@ -41,6 +51,7 @@ double assignmentScore(const AssignmentLayers& layers, const std::vector<int>& a
 struct AssignOptions {
     std::vector<int> fixed;             // per object: −1 free, else the candidate it keeps
     std::vector<bool> allowed;          // per candidate: may be chosen for a free object
+    std::vector<std::vector<bool>> objectAllowed;  // per object, per candidate (empty: all)
     int top = 10;                       // how many ranked assignments to keep
     uint64_t exhaustiveLimit = 200000;  // search every assignment up to this many
     int restarts = 16;                  // local search: random starts besides `start`

@@ -3,9 +3,11 @@
 #include "analysis/properties.h"
 #include "core/error.h"
 #include "core/math.h"
+#include "materials/albedo.h"
 #include "materials/registry.h"
 
 #include <array>
+#include <cstdio>
 
 namespace lobe {
 
@@ -57,6 +59,11 @@ SeparationLayers separationLayers(const SceneSpec& spec, const AovImage& a) {
 std::string BrdfCandidate::label() const {
     std::string s = model;
     for (const std::string& x : settings) s += " " + x;
+    if (albedo > 0.0) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, " albedo=%g", albedo);
+        s += buf;
+    }
     if (!tag.empty()) s += " " + tag;
     return s;
 }
@@ -72,12 +79,22 @@ std::vector<BrdfCandidate> brdfCandidates(bool tune) {
     return out;
 }
 
+void equalizeAlbedo(std::vector<BrdfCandidate>& candidates, double albedo) {
+    for (BrdfCandidate& c : candidates) {
+        if (c.brdf) continue;
+        c.albedo = albedo;
+        c.scale = albedoScale(makeBrdf(c.model, c.settings), albedo);
+    }
+}
+
 void requestCandidateLayers(const std::vector<BrdfCandidate>& candidates, AovRequest& request) {
     request.models.clear();
     request.modelBrdfs.clear();
+    request.modelScales.clear();
     for (const BrdfCandidate& c : candidates) {
         request.models.push_back(c.label());
         request.modelBrdfs.push_back(c.brdf ? *c.brdf : makeBrdf(c.model, c.settings));
+        request.modelScales.push_back(c.scale);
     }
 }
 

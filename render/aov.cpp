@@ -150,7 +150,8 @@ void AovAccumulator::onEvent(const ShadingEvent& e) {
     }
     const size_t m = request_.modelBrdfs.size();
     if (m > 0) {
-        shadeSpecularPerModel(*e.point, toViewer_, lights_, request_.modelBrdfs, perModel_.data());
+        shadeSpecularPerModel(*e.point, toViewer_, lights_, request_.modelBrdfs, perModel_.data(),
+                              request_.modelScales.empty() ? nullptr : request_.modelScales.data());
         for (size_t k = 0; k < m; ++k)
             for (int b = 0; b < 3; ++b)
                 modelSpecular_[(size_t(e.object) * m + k) * 3 + size_t(b)] += perModel_[k][b] * e.weight;

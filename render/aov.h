@@ -36,6 +36,7 @@ struct AovRequest {
     double depthOpacity = 0.5;
     std::vector<std::string> models;  // specular luminance per object per model
     std::vector<Brdf> modelBrdfs;     // filled from `models` at their defaults
+    std::vector<double> modelScales;  // per model: factor on f_s (empty: 1 for all)
 
     bool any() const {
         return objects || backdrop || depth || normal || topObject || alpha || !models.empty();

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "core/nearest_name.h"
+#include "materials/albedo.h"
 #include "materials/registry.h"
 #include "render/framing.h"
 #include "volume/volume_layout.h"
@@ -258,6 +259,14 @@ void readBrdf(Reader r, ObjectSpec& object) {
         setBrdfParam(*model, values, spec.name, v, r.file() + ": " + r.path());
     }
     object.material.specular = model->create(values);
+    if (r.has("albedo")) {  // the lobe scaled to this albedo at normal incidence (materials/albedo.h)
+        const double target = r.number("albedo", 0.1, 1e-6, 1.0);
+        try {
+            object.material.specularScale = albedoScale(object.material.specular, target);
+        } catch (const Error& e) {
+            r.fail(r.at("albedo"), e.what());
+        }
+    }
     r.finish();  // any other key is not a parameter of this model
 }
 

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace lobe {
 namespace {
 
@@ -285,6 +287,76 @@ TEST(Assign, LocalSearchFindsItFromABadStartAndKeepsFixedObjects) {
     const AssignResult e = searchAssignments(l, ex);
     EXPECT_NEAR(e.ranked[0].score, 0.5 / 1.5, 1e-6);
     for (int c : e.ranked[0].assignment) EXPECT_NE(c, 2);
+}
+
+TEST(Assign, DistinctNeverRepeatsAModel) {
+    AssignmentLayers l = handLayers();
+    // Candidates 0 and 1 are two settings of one model: distinct forbids pairing them too.
+    l.candidateModels = {"m0", "m0", "m2"};
+    AssignOptions o;
+    o.distinct = true;
+    o.top = 100;
+    const AssignResult r = searchAssignments(l, o);
+    ASSERT_FALSE(r.ranked.empty());
+    for (const ScoredAssignment& a : r.ranked)
+        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])], l.candidateModels[size_t(a.assignment[1])]);
+    // Of the 9 assignments, (0,0), (0,1), (1,0), (1,1), (2,2) repeat a model.
+    EXPECT_EQ(r.rejected, 5u);
+    EXPECT_EQ(r.ranked.size(), 4u);
+    // With candidate 2 forbidden for both objects (objectAllowed), only m0 is left: nothing is
+    // admissible.
+    o.objectAllowed = {{true, true, false}, {true, true, false}};
+    const AssignResult none = searchAssignments(l, o);
+    EXPECT_TRUE(none.ranked.empty());  // every remaining assignment repeats model m0
+    // The local search keeps the rule too.
+    AssignOptions local;
+    local.distinct = true;
+    local.exhaustiveLimit = 0;
+    local.start = {0, 0};
+    for (const ScoredAssignment& a : searchAssignments(l, local).ranked)
+        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])], l.candidateModels[size_t(a.assignment[1])]);
+}
+
+TEST(Assign, BoundsRejectAssignmentsThatLoseAnObject) {
+    // The veil scene as assignment layers: the veil may take the narrow or the broad highlight.
+    const SeparationLayers narrow = veilScene(VeilHighlight::Narrow);
+    const SeparationLayers broad = veilScene(VeilHighlight::Broad);
+    AssignmentLayers l;
+    l.scene = narrow;
+    l.scene.specular.clear();
+    l.candidates = {"narrow", "broad"};
+    l.candidateModels = {"n", "b"};
+    l.specular = {narrow.specular[0], broad.specular[0], narrow.specular[1], narrow.specular[1]};
+    const SeparationReport input = measureSeparation(narrow);
+    AssignOptions o;
+    o.fixed = {-1, 0};
+    o.minVisibility = {0.8 * input.objects[0].visibility, 0.8 * input.objects[1].visibility};
+    o.minChroma = {0.8 * input.objects[0].chroma, 0.8 * input.objects[1].chroma};
+    const AssignResult r = searchAssignments(l, o);
+    ASSERT_EQ(r.ranked.size(), 1u);
+    EXPECT_EQ(r.ranked[0].assignment[0], 0);  // the broad veil loses the inner object
+    EXPECT_EQ(r.rejected, 1u);
+    EXPECT_TRUE(withinBounds(input, o));
+    EXPECT_FALSE(withinBounds(measureSeparation(broad), o));
+}
+
+TEST(Assign, SparkleIsSpecksNotBroadHighlights) {
+    const int w = 16, h = 16;
+    std::vector<float> speck(3 * w * h, 0.0f), blob(3 * w * h, 0.0f);
+    for (int c = 0; c < 3; ++c) speck[size_t(3 * (5 * w + 5) + c)] = 1.0f;  // one pixel
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double r2 = (x - 8) * (x - 8) + (y - 8) * (y - 8);
+            for (int c = 0; c < 3; ++c) blob[size_t(3 * (y * w + x) + c)] = float(std::exp(-r2 / 8.0));
+        }
+    EXPECT_EQ(sparkleShare(speck.data(), w, h), 1.0);
+    EXPECT_EQ(sparkleShare(blob.data(), w, h), 0.0);
+    // Two specks among a faint broad highlight: their share of the light.
+    std::vector<float> mixed = blob;
+    for (int c = 0; c < 3; ++c) mixed[size_t(3 * (1 * w + 1) + c)] = 2.0f;
+    double total = 0.0;
+    for (size_t i = 0; i < mixed.size(); i += 3) total += mixed[i];
+    EXPECT_NEAR(sparkleShare(mixed.data(), w, h), 2.0 / total, 1e-6);
 }
 
 }  // namespace

@@ -8,6 +8,9 @@
 #include "analysis/scene_passes.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
+#include "render/shading.h"
+#include "materials/albedo.h"
+#include "core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -133,6 +136,47 @@ TEST(SeparationScene, AssignmentLayersReproduceAFullRender) {
         const double rendered = reportOf(twoSpheres(8, candidates[size_t(c)].model)).score;
         EXPECT_NEAR(fromLayers, rendered, 1e-5 * rendered + 1e-7) << candidates[size_t(c)].model;
         EXPECT_GT(rendered, 0.0);
+    }
+}
+
+TEST(SeparationScene, BrdfAlbedoKeyScalesTheLobeAndItsShading) {
+    const std::string object =
+        R"({"image": {"width": 8, "height": 8, "samples_per_pixel": 1},
+            "camera": {"position": [15.5, 15.5, -90], "target": [15.5, 15.5, 15.5], "up": [0, 1, 0]},
+            "lights": [{"position": [15.5, 15.5, -90], "intensity": 1}],
+            "objects": [{"name": "ball", "kind": "isosurface", "source": {"path": "ball.raw",
+              "dims": [32, 32, 32], "type": "float32"}, "iso": 0.5,
+              "brdf": {"model": "ward", ALBEDO}}]})";
+    const fs::path dir = fs::path(LOBE_BINARY_DIR) / "test-output" / "separation_scene";
+    ballFile();
+    auto with = [&](const std::string& albedo) {
+        std::string json = object;
+        json.replace(json.find("ALBEDO"), 6, albedo);
+        return parseScene(json, dir.string(), "albedo");
+    };
+    const SceneSpec plain = with(R"("alpha_x": 0.1)");
+    const SceneSpec scaled = with(R"("alpha_x": 0.1, "albedo": 0.05)");
+    EXPECT_EQ(plain.objects[0].material.specularScale, 1.0);
+    const double k = scaled.objects[0].material.specularScale;
+    EXPECT_NEAR(k * normalIncidenceAlbedo(scaled.objects[0].material.specular), 0.05, 1e-12);
+    // The shaded specular term is k times the unscaled one; the Lambert term is unchanged.
+    ShadingPoint p;
+    p.frame = Frame::fromNormal(Vec3(0, 0, 1));
+    p.position = Vec3(0, 0, 0);
+    const std::vector<PointLight> lights = {{Vec3(0.2, 0, 5), Spectrum(1.0)}};
+    p.material = &plain.objects[0].material;
+    const ShadingTerms a = shadeTerms(p, Vec3(0, 0, 1), lights);
+    p.material = &scaled.objects[0].material;
+    const ShadingTerms b = shadeTerms(p, Vec3(0, 0, 1), lights);
+    EXPECT_GT(a.specular[0], 0.0);
+    EXPECT_NEAR(b.specular[0], k * a.specular[0], 1e-12 * k * a.specular[0]);
+    EXPECT_EQ(b.lambert[0], a.lambert[0]);
+    // Out of range: one error naming the key.
+    try {
+        with(R"("albedo": 1.5)");
+        ADD_FAILURE() << "albedo 1.5 accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("albedo"), std::string::npos) << e.what();
     }
 }
 
