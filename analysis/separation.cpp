@@ -146,6 +146,13 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
         idSum(k_, 0.0), idWeight(k_, 0.0), chromaSum(k_, 0.0), lumSum(k_, 0.0);
     std::vector<double> c(k_), ys(k_);
     for (size_t i = 0; i < n_; ++i) {
+        // A pixel no object reaches and no highlight lights adds nothing to any sum (c = 0, w = 0).
+        bool empty = true;
+        for (size_t o = 0; o < k_ && empty; ++o) {
+            const float* S = specular[o] + 3 * i;
+            empty = weight_[i * k_ + o] == 0.0f && S[0] == 0.0f && S[1] == 0.0f && S[2] == 0.0f;
+        }
+        if (empty) continue;
         double B[3] = {base_[3 * i], base_[3 * i + 1], base_[3 * i + 2]};
         for (size_t o = 0; o < k_; ++o)
             for (int b = 0; b < 3; ++b) B[b] += specular[o][3 * i + size_t(b)];
@@ -153,7 +160,7 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
         const Rgb3 shown = {displayedShoulder(B[0], shoulder), displayedShoulder(B[1], shoulder),
                             displayedShoulder(B[2], shoulder)};
         const Rgb3 lab = srgbToLab(shown);
-        const double chroma = std::hypot(lab[1], lab[2]);
+        const double chroma = std::sqrt(lab[1] * lab[1] + lab[2] * lab[2]);
         Rgb3 ictcp{};
         if (itp) ictcp = srgbToIctcp(shown, l.peakLuminance);
         for (size_t o = 0; o < k_; ++o) {

@@ -303,8 +303,10 @@ void runAssign(AssignCommand& cmd) {
                      std::to_string(result.evaluated) + " scored (" + std::to_string(result.rejected) +
                      " broke a constraint) in " + fmt("%.2f", searchSeconds) +
                      " s. Score: the separation score, metric " + cmd.metric +
-                     " (docs/separation.md). Constraints: every object's visibility V and chroma C* "
-                     "at least " + fmt("%g", cmd.keepFraction) + " of the input's" +
+                     " (docs/separation.md). Constraints: " +
+                     (cmd.keepFraction > 0.0 ? "every object's visibility V and chroma C* at least " +
+                                                   fmt("%g", cmd.keepFraction) + " of the input's"
+                                             : std::string("none on visibility and chroma")) +
                      (cmd.brightnessBand > 0.0
                           ? "; mean luminance within ×1/" + fmt("%g", cmd.brightnessBand) + " … ×" +
                                 fmt("%g", cmd.brightnessBand) + " of the input's"

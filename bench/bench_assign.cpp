@@ -129,7 +129,7 @@ int candidateIndex(const std::vector<BrdfCandidate>& c, const std::string& model
 
 int main(int argc, char** argv) {
     int size = 64, spp = 1, threads = 2, manySize = 32, subsets = 20, tuneSize = 64;
-    bool skipFull = false, onlyRenderings = false;
+    bool skipFull = false, onlyRenderings = false, kendall = false;
     std::string paperDir = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -143,15 +143,63 @@ int main(int argc, char** argv) {
         else if (a == "--skip-full") skipFull = true;
         else if (a == "--paper-dir" && i + 1 < argc) paperDir = argv[++i];
         else if (a == "--only-renderings") onlyRenderings = true;
+        else if (a == "--kendall") kendall = true;
         else {
             std::fprintf(stderr, "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
                                  "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
-                                 "[--only-renderings]\n", argv[0]);
+                                 "[--only-renderings] [--kendall]\n", argv[0]);
             return 2;
         }
     }
     const std::string scenes = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/";
     const std::vector<BrdfCandidate> nine = brdfCandidates(false);
+    if (kendall) {
+        // Rank agreement of the two measures (docs/separation.md) over all 729 assignments of the
+        // paper scene (maps merged), at the paper's parameters and at equal albedo 0.1.
+        const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
+        std::printf("# Weber score against the ΔE_ITP measure, %s/rendering-01.json at %d² × %d spp\n\n"
+                    "| lobes | Kendall τ (score, itp) | discordant / comparable | τ (highlight term H, itp) | "
+                    "best by score | best by itp |\n|---|---:|---:|---:|---|---|\n",
+                    paperDir.c_str(), size, spp);
+        for (int equal = 0; equal < 2; ++equal) {
+            std::vector<BrdfCandidate> c = nine;
+            if (equal) equalizeAlbedo(c, 0.1);
+            const AssignmentLayers l = mergeMaps(layersOf(paper, c, threads), paper);
+            const SeparationScorer weber(l.scene);
+            const SeparationScorer itp(l.scene, kItpThreshold, SeparationMetric::Itp);
+            std::vector<double> w, h, d;
+            std::vector<std::vector<int>> all;
+            for (int a = 0; a < 9; ++a)
+                for (int b = 0; b < 9; ++b)
+                    for (int m = 0; m < 9; ++m) {
+                        const std::vector<int> x = {a, b, m};
+                        const SeparationReport rw = assignmentReport(weber, l, x);
+                        w.push_back(rw.score);
+                        h.push_back(rw.highlight);
+                        d.push_back(assignmentReport(itp, l, x).score);
+                        all.push_back(x);
+                    }
+            const RankAgreement t = compareRankings(w, d), th = compareRankings(h, d);
+            const size_t bw = size_t(std::max_element(w.begin(), w.end()) - w.begin());
+            const size_t bd = size_t(std::max_element(d.begin(), d.end()) - d.begin());
+            std::printf("| %s | %.3f | %d / %d | %.3f | %s | %s |\n",
+                        equal ? "equal albedo 0.1" : "paper's parameters", t.kendallTau, t.discordant,
+                        t.comparable, th.kendallTau, label(c, all[bw]).c_str(), label(c, all[bd]).c_str());
+            for (int r = 1; r <= 24; ++r) {
+                char name[64];
+                std::snprintf(name, sizeof name, "/rendering-%02d.json", r);
+                const SceneSpec s = loadSceneFile(paperDir + name);
+                const std::vector<int> slot = slotOfObject(s);
+                std::vector<int> x(3, -1);
+                for (size_t o = 0; o < s.objects.size(); ++o)
+                    x[size_t(slot[o])] = candidateIndex(nine, s.objects[o].brdfModel);
+                const size_t i = size_t(x[0] * 81 + x[1] * 9 + x[2]);
+                std::fprintf(stderr, "%s rendering %d: score %.4f highlight %.4f itp %.3f\n",
+                             equal ? "equal" : "paper", r, w[i], h[i], d[i]);
+            }
+        }
+        return 0;
+    }
 
     // 1. Shortcut against full renders.
     const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
