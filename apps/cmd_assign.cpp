@@ -39,7 +39,8 @@ struct AssignCommand {
     bool force = false;
     bool quiet = false;
     bool distinct = false;
-    std::string equalAlbedo;   // "" off; the albedo at normal incidence (default 0.1)
+    std::string equalAlbedo;   // the albedo at normal incidence ("" with the flag alone: 0.1)
+    CLI::Option* equalAlbedoOption = nullptr;
     double keepFraction = 0.8;  // least visibility and chroma against the input's (0: no bound)
     double brightnessBand = 0.0;  // > 1: each object's mean luminance within [1/b, b] × the input's
     std::string metric = "weber";
@@ -139,6 +140,8 @@ void runAssign(AssignCommand& cmd) {
         throw Error("--brightness-band must be > 1 (or 0: no band), got " +
                     std::to_string(cmd.brightnessBand));
     double albedo = 0.0;
+    if (cmd.equalAlbedoOption && cmd.equalAlbedoOption->count() > 0 && cmd.equalAlbedo.empty())
+        cmd.equalAlbedo = "0.1";
     if (!cmd.equalAlbedo.empty()) {
         try {
             size_t used = 0;
@@ -382,11 +385,12 @@ void registerAssignCommand(CLI::App& app) {
     sub->add_flag("--tune", cmd.tune,
                   "also try each model's documented parameter variants (docs/brdf-properties.md); "
                   "any candidate whose highlight on an object is mostly sub-pixel specks is not offered");
-    sub->add_option("--equal-albedo", cmd.equalAlbedo,
-                    "scale every candidate lobe to this albedo at normal incidence (compare models "
-                    "by shape, not magnitude); without a value 0.1")
-        ->expected(0, 1)
-        ->default_str("0.1");
+    cmd.equalAlbedoOption =
+        sub->add_option("--equal-albedo", cmd.equalAlbedo,
+                        "scale every candidate lobe to albedo A at normal incidence (compare models "
+                        "by shape, not magnitude); A = 0.1 when no value is given; off by default")
+            ->expected(0, 1)
+            ->type_name("[A]");
     sub->add_flag("--distinct", cmd.distinct, "no two objects share a model");
     sub->add_option("--keep-visible", cmd.keepFraction,
                     "every object's visibility and chroma stay at least this fraction of the "
