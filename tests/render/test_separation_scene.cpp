@@ -139,6 +139,32 @@ TEST(SeparationScene, AssignmentLayersReproduceAFullRender) {
     }
 }
 
+TEST(SeparationScene, ANarrowLobeSpecksAndABroadOneDoesNot) {
+    // The two spheres at 64², lit from the camera: Phong's default lobe makes a highlight several
+    // pixels across on each sphere; Cook–Torrance at m = 0.03 (a --tune variant) one narrower
+    // than a pixel, which `lobe assign` must not offer (kSparkleLimit).
+    const SceneSpec spec = twoSpheres(16);
+    std::vector<BrdfCandidate> candidates = {{"phong", {}, {}, ""},
+                                             {"cook_torrance", {"m=0.03"}, {}, ""}};
+    AovRequest request;
+    request.objects = request.backdrop = true;
+    requestCandidateLayers(candidates, request);
+    const RenderScene scene(spec, false);
+    RenderOptions options;
+    options.progress = false;
+    AovImage aovs;
+    scene.render(options, nullptr, &request, &aovs);
+    const AssignmentLayers layers = assignmentLayers(spec, aovs, candidates);
+    // The front sphere faces the light at its centre: its narrow highlight is a speck. (On the
+    // back sphere, 16 voxels aside, the 2 samples per pixel miss that narrow a highlight entirely
+    // — the other face of sub-pixel highlights: they flicker in and out with the sampling.)
+    const double broad = sparkleShare(layers.layer(0, 0).data(), spec.width, spec.height);
+    const double narrow = sparkleShare(layers.layer(0, 1).data(), spec.width, spec.height);
+    EXPECT_LT(broad, 0.05);
+    EXPECT_GT(narrow, 2.0 * kSparkleLimit);
+    EXPECT_LT(sparkleShare(layers.layer(1, 0).data(), spec.width, spec.height), 0.05);
+}
+
 TEST(SeparationScene, BrdfAlbedoKeyScalesTheLobeAndItsShading) {
     const std::string object =
         R"({"image": {"width": 8, "height": 8, "samples_per_pixel": 1},
