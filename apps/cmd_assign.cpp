@@ -244,11 +244,11 @@ void runAssign(AssignCommand& cmd) {
             search.minLuminance.push_back(v.meanLuminance / cmd.brightnessBand);
             search.maxLuminance.push_back(v.meanLuminance * cmd.brightnessBand);
         }
-    // No sparkle: a candidate whose highlight on an object is mostly isolated specks — narrower
-    // than a pixel of the layers, which are coarser than any final render — is not offered for
-    // that object, unless it specks no more than twice as much as the least specky model at its
-    // defaults there (a structure a few pixels across, where any highlight is a speck). That
-    // least specky default is always offered, so every object keeps a candidate.
+    // No sparkle (--tune): a parameter variant whose highlight on an object is mostly isolated
+    // specks — narrower than a pixel of the layers, which are coarser than any final render — is
+    // not offered for that object, unless it specks no more than twice as much as the least
+    // specky model at its defaults there (a structure a few pixels across, where any highlight is
+    // a speck). The nine models at their defaults (the paper's) are always offered.
     std::string sparkleNote;
     search.objectAllowed.assign(k, std::vector<bool>(candidates.size(), true));
     for (size_t i = 0; i < k; ++i) {
@@ -260,7 +260,7 @@ void runAssign(AssignCommand& cmd) {
             if (candidates[c].settings.empty() && !candidates[c].brdf) defaults = std::min(defaults, share[c]);
         }
         for (size_t c = 0; c < candidates.size(); ++c)
-            if (share[c] > kSparkleLimit && share[c] > 2.0 * defaults) {
+            if (!candidates[c].settings.empty() && share[c] > kSparkleLimit && share[c] > 2.0 * defaults) {
                 search.objectAllowed[i][c] = false;
                 sparkleNote += "\n- " + spec.objects[i].name + ": " + candidates[c].label() + " (" +
                                fmt("%.0f", 100.0 * share[c]) + " % of its highlight in specks; the "
@@ -384,7 +384,7 @@ void registerAssignCommand(CLI::App& app) {
     sub->add_option("--exclude", cmd.exclude, "model not to choose (repeatable)");
     sub->add_flag("--tune", cmd.tune,
                   "also try each model's documented parameter variants (docs/brdf-properties.md); "
-                  "any candidate whose highlight on an object is mostly sub-pixel specks is not offered");
+                  "a variant whose highlight on an object is mostly sub-pixel specks is not offered");
     cmd.equalAlbedoOption =
         sub->add_option("--equal-albedo", cmd.equalAlbedo,
                         "scale every candidate lobe to albedo A at normal incidence (compare models "
