@@ -338,6 +338,19 @@ TEST(Assign, BoundsRejectAssignmentsThatLoseAnObject) {
     EXPECT_EQ(r.rejected, 1u);
     EXPECT_TRUE(withinBounds(input, o));
     EXPECT_FALSE(withinBounds(measureSeparation(broad), o));
+    // Brightness band: the veil's own light where it shows is 0.05 (Lambert) plus its highlight;
+    // the broad highlight adds 1.0 on 15 of its 40 pixels, the narrow one 0.05 on 5: the broad
+    // one more than doubles its mean luminance and leaves a band of ×1/2 … ×2.
+    const double narrowY = input.objects[0].meanLuminance;
+    const double broadY = measureSeparation(broad).objects[0].meanLuminance;
+    EXPECT_GT(broadY, 2.0 * narrowY);
+    AssignOptions band;
+    band.fixed = {-1, 0};
+    band.minLuminance = {narrowY / 2.0, 0.0};
+    band.maxLuminance = {narrowY * 2.0, 1e9};
+    const AssignResult b = searchAssignments(l, band);
+    ASSERT_EQ(b.ranked.size(), 1u);
+    EXPECT_EQ(b.ranked[0].assignment[0], 0);  // the broad highlight leaves the band
 }
 
 TEST(Assign, SparkleIsSpecksNotBroadHighlights) {
