@@ -59,8 +59,8 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
                             onEvaluation();
                             terms.lambert += m.kd * kInvPi * light.intensity * g;
                             if (m.specularOn)
-                                terms.specular += evalBrdf(m.specular, wi, wo) *
-                                                  (m.specularScale * light.intensity * g);
+                                terms.specular += evalBrdf(m.specular, wi, wo) * m.specularScale *
+                                                  light.intensity * g;
                         });
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
