@@ -382,6 +382,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
         if (!r.has("iso")) r.fail(r.at("iso"), "missing (the iso value)");
         o.iso = r.number("iso", 0.5, -1e12, 1e12);
         o.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
+        o.isoNormals = r.string("normals", "trilinear", {"trilinear", "bspline"});
         if (o.method == "levelset") {
             o.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
             o.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);
