@@ -130,6 +130,7 @@ int candidateIndex(const std::vector<BrdfCandidate>& c, const std::string& model
 int main(int argc, char** argv) {
     int size = 64, spp = 1, threads = 2, manySize = 32, subsets = 20, tuneSize = 64;
     bool skipFull = false, onlyRenderings = false, kendall = false;
+    double kendallAlbedo = 0.1;
     std::string paperDir = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -144,10 +145,11 @@ int main(int argc, char** argv) {
         else if (a == "--paper-dir" && i + 1 < argc) paperDir = argv[++i];
         else if (a == "--only-renderings") onlyRenderings = true;
         else if (a == "--kendall") kendall = true;
+        else if (a == "--albedo" && i + 1 < argc) kendallAlbedo = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
                                  "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
-                                 "[--only-renderings] [--kendall]\n", argv[0]);
+                                 "[--only-renderings] [--kendall [--albedo A]]\n", argv[0]);
             return 2;
         }
     }
@@ -163,7 +165,7 @@ int main(int argc, char** argv) {
                     paperDir.c_str(), size, spp);
         for (int equal = 0; equal < 2; ++equal) {
             std::vector<BrdfCandidate> c = nine;
-            if (equal) equalizeAlbedo(c, 0.1);
+            if (equal) equalizeAlbedo(c, kendallAlbedo);
             const AssignmentLayers l = mergeMaps(layersOf(paper, c, threads), paper);
             const SeparationScorer weber(l.scene);
             const SeparationScorer itp(l.scene, kItpThreshold, SeparationMetric::Itp);
@@ -183,7 +185,7 @@ int main(int argc, char** argv) {
             const size_t bw = size_t(std::max_element(w.begin(), w.end()) - w.begin());
             const size_t bd = size_t(std::max_element(d.begin(), d.end()) - d.begin());
             std::printf("| %s | %.3f | %d / %d | %.3f | %s | %s |\n",
-                        equal ? "equal albedo 0.1" : "paper's parameters", t.kendallTau, t.discordant,
+                        equal ? "equal albedo" : "paper's parameters", t.kendallTau, t.discordant,
                         t.comparable, th.kendallTau, label(c, all[bw]).c_str(), label(c, all[bd]).c_str());
             for (int r = 1; r <= 24; ++r) {
                 char name[64];
