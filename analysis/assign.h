@@ -6,8 +6,10 @@
 // contribute with m, because no BRDF changes any transmittance (opacities come from transfer
 // functions and object opacities; the shading roulette draws on T·α only). The rest of the image
 // (every object's Lambert term and the backdrop) does not depend on the assignment either, so any
-// assignment's image luminance is base + Σ_o S[o][m_o] and its score follows without rendering.
+// assignment's image is base + Σ_o S[o][m_o] and its score follows without rendering.
 #pragma once
+
+#include "analysis/separation.h"
 
 #include <cstdint>
 #include <string>
@@ -16,29 +18,55 @@
 namespace lobe {
 
 struct AssignmentLayers {
-    int width = 0, height = 0;
-    std::vector<std::string> objects;
-    std::vector<std::string> candidates;     // BRDF labels, e.g. "ward" or "ward alpha_x=0.1"
-    std::vector<float> base;                 // luminance of all Lambert terms and the backdrop
-    std::vector<std::vector<float>> specular;  // [object · candidates + candidate] → layer
-    size_t pixelCount() const { return size_t(width) * height; }
+    SeparationLayers scene;  // objects, lambert, depth, backdrop, display; its specular unused
+    std::vector<std::string> candidates;       // BRDF labels, e.g. "ward" or "ward alpha_x=0.1"
+    std::vector<std::string> candidateModels;  // the model of each candidate, e.g. "ward"
+    std::vector<std::vector<float>> specular;  // [object · candidates + candidate] → rgb triples
+    size_t pixelCount() const { return scene.pixelCount(); }
+    const std::vector<std::string>& objects() const { return scene.objects; }
     const std::vector<float>& layer(int object, int candidate) const {
         return specular[size_t(object) * candidates.size() + size_t(candidate)];
     }
 };
 
-// Separation score of one assignment (a candidate index per object).
+// Sparkle: a highlight narrower than a pixel shows as isolated specks. The share of a specular
+// layer's luminance (rgb triples, width × height) in pixels brighter than kSparklePeak × the
+// mean of their 8 neighbours (and above 1 % of the layer's maximum, so that noise in dark
+// pixels does not count): 0 for a highlight spread over several pixels, near 1 for specks.
+constexpr double kSparklePeak = 4.0;
+// `lobe assign` does not offer a candidate for an object when more than this share of its
+// highlight there is specks.
+constexpr double kSparkleLimit = 0.25;
+double sparkleShare(const float* rgb, int width, int height);
+
+// The layers with `members` summed into one object `name` (analysis/separation.h mergeObjects).
+AssignmentLayers mergeAssignmentObjects(const AssignmentLayers& layers, const std::string& name,
+                                        const std::vector<std::string>& members);
+
+// The separation report / score of one assignment (a candidate index per object).
+SeparationReport assignmentReport(const SeparationScorer& scorer, const AssignmentLayers& layers,
+                                  const std::vector<int>& assignment);
 double assignmentScore(const AssignmentLayers& layers, const std::vector<int>& assignment);
 
 struct AssignOptions {
     std::vector<int> fixed;             // per object: −1 free, else the candidate it keeps
     std::vector<bool> allowed;          // per candidate: may be chosen for a free object
+    std::vector<std::vector<bool>> objectAllowed;  // per object, per candidate (empty: all)
     int top = 10;                       // how many ranked assignments to keep
     uint64_t exhaustiveLimit = 200000;  // search every assignment up to this many
     int restarts = 16;                  // local search: random starts besides `start`
     std::vector<int> start;             // local search: a first start (e.g. the scene's own)
     uint64_t seed = 1;
+    SeparationMetric metric = SeparationMetric::Weber;
+    // Constraints; an assignment that breaks one is not ranked. distinct: no two objects share a
+    // model (AssignmentLayers::candidateModels). Per object (empty: no bound): the least
+    // visibility V and chroma C* (ObjectVisibility), and the band of its mean luminance.
+    bool distinct = false;
+    std::vector<double> minVisibility, minChroma, minLuminance, maxLuminance;
 };
+
+// Whether `report`'s objects keep the bounds of `options` (not the distinct rule).
+bool withinBounds(const SeparationReport& report, const AssignOptions& options);
 
 struct ScoredAssignment {
     std::vector<int> assignment;
@@ -46,7 +74,9 @@ struct ScoredAssignment {
 };
 
 struct AssignResult {
-    std::vector<ScoredAssignment> ranked;  // best first, at most options.top
+    std::vector<ScoredAssignment> ranked;  // best first, at most options.top; may be empty when
+                                           // no assignment keeps the constraints
+    uint64_t rejected = 0;  // assignments scored but breaking a constraint
     bool exhaustive = false;
     uint64_t evaluated = 0;  // assignments scored
     uint64_t space = 0;      // assignments in the search space (saturates at UINT64_MAX)
@@ -57,8 +87,8 @@ struct AssignResult {
 // scores best with the others held (coordinate ascent) until no object changes.
 AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptions& options);
 
-// How many assignments of the exhaustive space score strictly better than `assignment` (its
-// rank is this + 1); scores every assignment once.
+// How many admissible assignments of the exhaustive space score strictly better than `assignment`
+// (its rank is this + 1); scores every assignment once.
 uint64_t countBetter(const AssignmentLayers& layers, const AssignOptions& options,
                      const std::vector<int>& assignment);
 

@@ -1,5 +1,6 @@
 #include "analysis/separation.h"
 
+#include "analysis/colour.h"
 #include "core/error.h"
 
 #include <algorithm>
@@ -8,12 +9,29 @@
 
 namespace lobe {
 
-std::vector<float> contrastLattice(const std::vector<float>& layer,
-                                   const std::vector<float>& beauty) {
-    std::vector<float> c(layer.size(), 0.0f);
-    for (size_t i = 0; i < layer.size(); ++i)
-        if (beauty[i] > 0.0f) c[i] = layer[i] / beauty[i];
-    return c;
+namespace {
+
+double lum(const float* rgb) { return srgbLuminance(rgb[0], rgb[1], rgb[2]); }
+
+void checkLayers(const SeparationLayers& l, bool needSpecular) {
+    const size_t n = l.pixelCount(), k = l.objects.size();
+    bool ok = l.lambert.size() == k && l.backdrop.size() == 3 * n &&
+              (l.depth.empty() || l.depth.size() == k) && (!needSpecular || l.specular.size() == k);
+    for (size_t o = 0; ok && o < k; ++o) {
+        ok = l.lambert[o].size() == 3 * n && (!needSpecular || l.specular[o].size() == 3 * n) &&
+             (l.depth.empty() || l.depth[o].size() == n);
+    }
+    if (!ok) throw Error("separation: layers do not match the image");
+}
+
+}  // namespace
+
+std::vector<float> beautyOf(const SeparationLayers& l) {
+    checkLayers(l, true);
+    std::vector<float> b(l.backdrop);
+    for (size_t o = 0; o < l.objects.size(); ++o)
+        for (size_t i = 0; i < b.size(); ++i) b[i] += l.lambert[o][i] + l.specular[o][i];
+    return b;
 }
 
 SeparationLayers mergeObjects(const SeparationLayers& layers, const std::string& name,
@@ -28,103 +46,236 @@ SeparationLayers mergeObjects(const SeparationLayers& layers, const std::string&
         }
         member[size_t(it - layers.objects.begin())] = true;
     }
-    SeparationLayers out;
-    out.width = layers.width;
-    out.height = layers.height;
-    out.beauty = layers.beauty;
+    SeparationLayers out = layers;
+    out.objects.clear();
+    out.lambert.clear();
+    out.specular.clear();
+    out.depth.clear();
+    const bool hasSpecular = !layers.specular.empty(), hasDepth = !layers.depth.empty();
     int merged = -1;
     for (size_t o = 0; o < layers.objects.size(); ++o) {
-        if (!member[o]) {
-            out.objects.push_back(layers.objects[o]);
-            out.specular.push_back(layers.specular[o]);
-            out.total.push_back(layers.total[o]);
+        if (!member[o] || merged < 0) {
+            if (member[o]) merged = int(out.objects.size());
+            out.objects.push_back(member[o] ? name : layers.objects[o]);
+            out.lambert.push_back(layers.lambert[o]);
+            if (hasSpecular) out.specular.push_back(layers.specular[o]);
+            if (hasDepth) out.depth.push_back(layers.depth[o]);
             continue;
         }
-        if (merged < 0) {
-            merged = int(out.objects.size());
-            out.objects.push_back(name);
-            out.specular.push_back(layers.specular[o]);
-            out.total.push_back(layers.total[o]);
-            continue;
+        const size_t m = size_t(merged);
+        for (size_t i = 0; i < layers.lambert[o].size(); ++i) {
+            out.lambert[m][i] += layers.lambert[o][i];
+            if (hasSpecular) out.specular[m][i] += layers.specular[o][i];
         }
-        for (size_t i = 0; i < layers.beauty.size(); ++i) {
-            out.specular[size_t(merged)][i] += layers.specular[o][i];
-            out.total[size_t(merged)][i] += layers.total[o][i];
-        }
+        if (hasDepth)
+            for (size_t i = 0; i < layers.depth[o].size(); ++i) {
+                const float d = layers.depth[o][i];
+                float& to = out.depth[m][i];
+                if (d > 0.0f && (to == 0.0f || d < to)) to = d;
+            }
     }
     return out;
 }
 
-SeparationReport measureSeparation(const SeparationLayers& layers, double threshold) {
-    const size_t n = size_t(layers.width) * layers.height;
-    const size_t k = layers.objects.size();
-    if (layers.specular.size() != k || layers.total.size() != k || layers.beauty.size() != n)
-        throw Error("separation: layers do not match the image");
-    SeparationReport report;
-    report.threshold = threshold;
-    std::vector<std::vector<float>> contrast(k);
-    for (size_t o = 0; o < k; ++o) {
-        contrast[o] = contrastLattice(layers.specular[o], layers.beauty);
-        const std::vector<float> visible = contrastLattice(layers.total[o], layers.beauty);
-        ObjectVisibility v;
-        v.name = layers.objects[o];
-        size_t seen = 0, shiny = 0;
-        double sum = 0.0;
-        for (size_t i = 0; i < n; ++i) {
-            seen += visible[i] >= threshold;
-            if (contrast[o][i] >= threshold) {
-                ++shiny;
-                sum += contrast[o][i];
+SeparationScorer::SeparationScorer(const SeparationLayers& l, double threshold,
+                                   SeparationMetric metric)
+    : layers_(l), threshold_(threshold), metric_(metric) {
+    checkLayers(l, false);
+    n_ = l.pixelCount();
+    k_ = l.objects.size();
+    const bool shoulder = toneIsShoulder(l.tone);
+    base_ = l.backdrop;
+    for (size_t o = 0; o < k_; ++o)
+        for (size_t i = 0; i < 3 * n_; ++i) base_[i] += l.lambert[o][i];
+    lambertY_.assign(n_ * k_, 0.0f);
+    weight_.assign(n_ * k_, 0.0f);
+    ownA_.assign(n_ * k_, 0.0f);
+    ownB_.assign(n_ * k_, 0.0f);
+    ownC_.assign(n_ * k_, 0.0f);
+    weightSum_.assign(k_, 0.0);
+    matteShare_.assign(k_, 0.0);
+    matteIdentity_.assign(k_, 1.0);
+    std::vector<double> idSum(k_, 0.0), idWeight(k_, 0.0);
+    for (size_t i = 0; i < n_; ++i) {
+        const double yBase = lum(&base_[3 * i]);
+        const Rgb3 baseLab = srgbToLab({displayedShoulder(base_[3 * i], shoulder),
+                                        displayedShoulder(base_[3 * i + 1], shoulder),
+                                        displayedShoulder(base_[3 * i + 2], shoulder)});
+        for (size_t o = 0; o < k_; ++o) {
+            const float* L = &l.lambert[o][3 * i];
+            const double y = lum(L);
+            const size_t j = i * k_ + o;
+            lambertY_[j] = float(y);
+            if (!(yBase > 0.0) || !(y > 0.0)) continue;
+            const double w = std::clamp(y / yBase, 0.0, 1.0);
+            weight_[j] = float(w);
+            weightSum_[o] += w;
+            matteShare_[o] += w * w;
+            // The object's own colour at the matte pixel's luminance, as displayed.
+            const double s = yBase / y;
+            const Rgb3 own = srgbToLab({displayedShoulder(L[0] * s, shoulder), displayedShoulder(L[1] * s, shoulder),
+                                        displayedShoulder(L[2] * s, shoulder)});
+            const double c = std::hypot(own[1], own[2]);
+            if (c >= kAchromaticChroma) {
+                ownA_[j] = float(own[1] / c);
+                ownB_[j] = float(own[2] / c);
+                ownC_[j] = float(c);
+                const double along = baseLab[1] * ownA_[j] + baseLab[2] * ownB_[j];
+                idSum[o] += w * std::clamp(along / ownC_[j], 0.0, 1.0);
+                idWeight[o] += w;
             }
         }
-        v.visibleShare = n ? double(seen) / double(n) : 0.0;
-        v.specularShare = n ? double(shiny) / double(n) : 0.0;
-        v.meanSpecularContrast = shiny ? sum / double(shiny) : 0.0;
-        report.objects.push_back(v);
     }
-    for (size_t a = 0; a < k; ++a)
-        for (size_t b = a + 1; b < k; ++b) {
-            PairSeparation p;
-            p.a = int(a);
-            p.b = int(b);
-            p.metric = fluxOverlap(contrast[a].data(), contrast[b].data(), n, threshold);
-            report.score += p.metric.eSum;
-            report.pairs.push_back(p);
-        }
-    if (!report.pairs.empty()) report.score /= double(report.pairs.size());
-    return report;
+    for (size_t o = 0; o < k_; ++o)
+        if (idWeight[o] > 0.0) matteIdentity_[o] = idSum[o] / idWeight[o];
 }
 
-double separationScore(const std::vector<const float*>& specular, const float* beauty,
-                       size_t count, double threshold) {
-    const size_t k = specular.size();
-    if (k < 2) return 0.0;
-    // Per pair: areas and OA/OB of the contrast lattices (flux_overlap.h), summed in one pass.
-    const size_t pairs = k * (k - 1) / 2;
-    std::vector<double> OA(pairs, 0.0), OB(pairs, 0.0);
-    std::vector<int64_t> area(k, 0);
-    std::vector<double> c(k);
-    for (size_t i = 0; i < count; ++i) {
-        const double y = beauty[i];
-        for (size_t o = 0; o < k; ++o) {
-            c[o] = y > 0.0 ? double(float(specular[o][i] / y)) : 0.0;
-            area[o] += c[o] > threshold;
+SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& specular) const {
+    if (specular.size() != k_) throw Error("separation: one specular layer per object expected");
+    const SeparationLayers& l = layers_;
+    const bool shoulder = toneIsShoulder(l.tone);
+    const bool itp = metric_ == SeparationMetric::Itp;
+    const bool hasDepth = !l.depth.empty();
+    SeparationReport r;
+    r.metric = metric_;
+    r.threshold = threshold_;
+    const size_t pairs = k_ * (k_ - 1) / 2;
+    std::vector<double> OA(pairs, 0.0), OB(pairs, 0.0), Oab(pairs, 0.0), Oba(pairs, 0.0);
+    std::vector<int64_t> area(k_, 0), seen(k_, 0);
+    std::vector<double> contrastSum(k_, 0.0), shareSum(k_, 0.0), veilSum(k_, 0.0),
+        idSum(k_, 0.0), idWeight(k_, 0.0), chromaSum(k_, 0.0), lumSum(k_, 0.0);
+    std::vector<double> c(k_), ys(k_);
+    for (size_t i = 0; i < n_; ++i) {
+        // A pixel no object reaches and no highlight lights adds nothing to any sum (c = 0, w = 0).
+        bool empty = true;
+        for (size_t o = 0; o < k_ && empty; ++o) {
+            const float* S = specular[o] + 3 * i;
+            empty = weight_[i * k_ + o] == 0.0f && S[0] == 0.0f && S[1] == 0.0f && S[2] == 0.0f;
+        }
+        if (empty) continue;
+        double B[3] = {base_[3 * i], base_[3 * i + 1], base_[3 * i + 2]};
+        for (size_t o = 0; o < k_; ++o)
+            for (int b = 0; b < 3; ++b) B[b] += specular[o][3 * i + size_t(b)];
+        const double Y = srgbLuminance(B[0], B[1], B[2]);
+        const Rgb3 shown = {displayedShoulder(B[0], shoulder), displayedShoulder(B[1], shoulder),
+                            displayedShoulder(B[2], shoulder)};
+        const Rgb3 lab = srgbToLab(shown);
+        const double chroma = std::sqrt(lab[1] * lab[1] + lab[2] * lab[2]);
+        Rgb3 ictcp{};
+        if (itp) ictcp = srgbToIctcp(shown, l.peakLuminance);
+        for (size_t o = 0; o < k_; ++o) {
+            const float* S = specular[o] + 3 * i;
+            ys[o] = lum(S);
+            if (itp) {  // detection map: the pixel with and without the object's specular pass
+                const Rgb3 off = {displayedShoulder(B[0] - S[0], shoulder), displayedShoulder(B[1] - S[1], shoulder),
+                                  displayedShoulder(B[2] - S[2], shoulder)};
+                c[o] = deltaEItp(ictcp, srgbToIctcp(off, l.peakLuminance));
+            } else {
+                c[o] = Y > 0.0 ? double(float(ys[o] / Y)) : 0.0;
+            }
+            area[o] += c[o] > threshold_;
+            if (c[o] >= threshold_) contrastSum[o] += c[o];
+        }
+        for (size_t o = 0; o < k_; ++o) {
+            const size_t j = i * k_ + o;
+            const double share = Y > 0.0 ? (lambertY_[j] + ys[o]) / Y : 0.0;
+            seen[o] += share >= kWeberContrast;
+            const double w = weight_[j];
+            if (w == 0.0) continue;
+            shareSum[o] += w * std::min(share, 1.0);
+            chromaSum[o] += w * chroma;
+            lumSum[o] += w * (lambertY_[j] + ys[o]);
+            if (hasDepth && Y > 0.0) {
+                const float d = l.depth[o][i];
+                double veil = 0.0;
+                for (size_t a = 0; a < k_; ++a) {
+                    const float da = l.depth[a][i];
+                    if (a != o && da > 0.0f && d > 0.0f && da < d) veil += ys[a];
+                }
+                veilSum[o] += w * std::min(1.0, veil / Y);
+            }
+            if (ownC_[j] > 0.0f) {
+                const double along = lab[1] * ownA_[j] + lab[2] * ownB_[j];
+                idSum[o] += w * std::clamp(along / ownC_[j], 0.0, 1.0);
+                idWeight[o] += w;
+            }
         }
         size_t p = 0;
-        for (size_t a = 0; a < k; ++a)
-            for (size_t b = a + 1; b < k; ++b, ++p) {
-                const OverlapContribution cd = overlapContribution(c[a], c[b], threshold);
+        for (size_t a = 0; a < k_; ++a)
+            for (size_t b = a + 1; b < k_; ++b, ++p) {
+                const OverlapContribution cd = overlapContribution(c[a], c[b], threshold_);
                 OA[p] += cd.c;
                 OB[p] += cd.d;
             }
     }
-    double score = 0.0;
+    for (size_t o = 0; o < k_; ++o) {
+        ObjectVisibility v;
+        v.name = l.objects[o];
+        v.visibleShare = n_ ? double(seen[o]) / double(n_) : 0.0;
+        v.specularShare = n_ ? double(area[o]) / double(n_) : 0.0;
+        v.meanSpecularContrast = area[o] ? contrastSum[o] / double(area[o]) : 0.0;
+        const double W = weightSum_[o];
+        if (W > 0.0) {
+            v.visibility = shareSum[o] / W;
+            v.matteVisibility = matteShare_[o] / W;
+            v.veiling = veilSum[o] / W;
+            v.chroma = chromaSum[o] / W;
+            v.meanLuminance = lumSum[o] / W;
+        }
+        v.chromatic = idWeight[o] > 0.0;
+        v.identity = v.chromatic ? idSum[o] / idWeight[o] : 1.0;
+        v.matteIdentity = matteIdentity_[o];
+        const double keptColour =
+            v.matteIdentity > 0.0 ? std::min(1.0, v.identity / v.matteIdentity) : 1.0;
+        // An object never seen in the matte image has nothing to lose: kept 1, W 0, I 1.
+        const double kept =
+            v.matteVisibility > 0.0 ? std::min(1.0, v.visibility / v.matteVisibility) : 1.0;
+        v.quality = kept * (1.0 - v.veiling) * keptColour;
+        r.objects.push_back(v);
+    }
     size_t p = 0;
-    for (size_t a = 0; a < k; ++a)
-        for (size_t b = a + 1; b < k; ++b, ++p)
-            if (area[a] > 0 && area[b] > 0)
-                score += std::min(OA[p] / double(area[a]), OB[p] / double(area[b]));
-    return score / double(pairs);
+    for (size_t a = 0; a < k_; ++a)
+        for (size_t b = a + 1; b < k_; ++b, ++p) {
+            PairSeparation ps;
+            ps.a = int(a);
+            ps.b = int(b);
+            FluxOverlap& m = ps.metric;
+            m.OA = OA[p];
+            m.OB = OB[p];
+            m.areaA = area[a];
+            m.areaB = area[b];
+            m.eSum = (area[a] > 0 && area[b] > 0)
+                         ? std::min(OA[p] / double(area[a]), OB[p] / double(area[b]))
+                         : 0.0;
+            ps.score = itp ? m.eSum : m.eSum * r.objects[a].quality * r.objects[b].quality;
+            r.highlight += m.eSum;
+            r.score += ps.score;
+            r.pairs.push_back(ps);
+        }
+    if (pairs > 0) {
+        r.highlight /= double(pairs);
+        r.score /= double(pairs);
+    }
+    return r;
+}
+
+SeparationReport measureSeparation(const SeparationLayers& layers, double threshold,
+                                   SeparationMetric metric) {
+    checkLayers(layers, true);
+    const SeparationScorer scorer(layers, threshold, metric);
+    std::vector<const float*> specular;
+    for (const std::vector<float>& s : layers.specular) specular.push_back(s.data());
+    return scorer.evaluate(specular);
+}
+
+SeparationMetric parseSeparationMetric(const std::string& name) {
+    if (name == "weber") return SeparationMetric::Weber;
+    if (name == "itp") return SeparationMetric::Itp;
+    throw Error("--metric: expected weber or itp, got '" + name + "'");
+}
+
+const char* separationMetricName(SeparationMetric metric) {
+    return metric == SeparationMetric::Itp ? "itp" : "weber";
 }
 
 namespace {
@@ -138,40 +289,67 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 std::string separationCsv(const SeparationReport& r, const std::vector<std::string>& objects) {
-    std::string out = "kind,a,b,score,visible_share,specular_share,mean_specular_contrast,area_a,area_b\n";
+    std::string out =
+        "kind,a,b,score,visible_share,specular_share,mean_specular_contrast,area_a,area_b,"
+        "visibility,matte_visibility,veiling,identity,matte_identity,chroma,quality,highlight\n";
     for (const ObjectVisibility& v : r.objects)
-        out += "object," + v.name + ",," + ",," + fmt("%.6g", v.visibleShare) + "," +
-               fmt("%.6g", v.specularShare) + "," + fmt("%.6g", v.meanSpecularContrast) + ",,\n";
+        out += "object," + v.name + ",,," + fmt("%.6g", v.visibleShare) + "," +
+               fmt("%.6g", v.specularShare) + "," + fmt("%.6g", v.meanSpecularContrast) + ",,," +
+               fmt("%.6g", v.visibility) + "," + fmt("%.6g", v.matteVisibility) + "," +
+               fmt("%.6g", v.veiling) + "," + (v.chromatic ? fmt("%.6g", v.identity) : "") + "," +
+               (v.chromatic ? fmt("%.6g", v.matteIdentity) : "") + "," + fmt("%.6g", v.chroma) + "," + fmt("%.6g", v.quality) + ",\n";
     for (const PairSeparation& p : r.pairs)
         out += "pair," + objects[size_t(p.a)] + "," + objects[size_t(p.b)] + "," +
-               fmt("%.6g", p.metric.eSum) + ",,,," + std::to_string(p.metric.areaA) + "," +
-               std::to_string(p.metric.areaB) + "\n";
-    out += "scene,,," + fmt("%.6g", r.score) + ",,,,,\n";
+               fmt("%.6g", p.score) + ",,,," + std::to_string(p.metric.areaA) + "," +
+               std::to_string(p.metric.areaB) + ",,,,,,,," + fmt("%.6g", p.metric.eSum) + "\n";
+    out += "scene,,," + fmt("%.6g", r.score) + ",,,,,,,,,,,,," + fmt("%.6g", r.highlight) + "\n";
     return out;
 }
 
 std::string separationMarkdown(const SeparationReport& r, const std::vector<std::string>& objects,
                                const std::string& title) {
+    const bool itp = r.metric == SeparationMetric::Itp;
     std::string out = "# Separation: " + title + "\n\nScene score (mean over pairs): **" +
-                      fmt("%.4g", r.score) + "**; threshold: Weber contrast " +
-                      fmt("%.3g", r.threshold) + " (docs/separation.md).\n\n" +
-                      "| object | visible | highlight visible | mean highlight contrast |\n"
-                      "|---|---:|---:|---:|\n";
+                      fmt("%.4g", r.score) + "**";
+    if (itp)
+        out += "; metric: ΔE_ITP detection maps (BT.2124), threshold " + fmt("%.3g", r.threshold) +
+               " (docs/separation.md).\n\n";
+    else
+        out += " (highlight term alone " + fmt("%.4g", r.highlight) +
+               "); threshold: Weber contrast " + fmt("%.3g", r.threshold) +
+               " (docs/separation.md).\n\n";
+    out += "| object | visibility V | matte V0 | veiling W | identity I | matte I0 | chroma C* | "
+           "quality q | highlight seen | mean highlight " +
+           std::string(itp ? "ΔE_ITP" : "contrast") + " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const ObjectVisibility& v : r.objects)
-        out += "| " + v.name + " | " + fmt("%.1f %%", 100 * v.visibleShare) + " | " +
-               fmt("%.1f %%", 100 * v.specularShare) + " | " +
-               fmt("%.3f", v.meanSpecularContrast) + " |\n";
-    out += "\n| pair | score | highlight pixels A | highlight pixels B |\n|---|---:|---:|---:|\n";
+        out += "| " + v.name + " | " + fmt("%.3f", v.visibility) + " | " +
+               fmt("%.3f", v.matteVisibility) + " | " + fmt("%.3f", v.veiling) + " | " +
+               (v.chromatic ? fmt("%.3f", v.identity) : std::string("— (achromatic)")) + " | " +
+               (v.chromatic ? fmt("%.3f", v.matteIdentity) : std::string("—")) + " | " +
+               fmt("%.1f", v.chroma) + " | " + fmt("%.3f", v.quality) + " | " +
+               fmt("%.1f %%", 100 * v.specularShare) + " | " + fmt("%.3f", v.meanSpecularContrast) +
+               " |\n";
+    out += "\n| pair | score | highlight e | highlight pixels A | highlight pixels B |\n"
+           "|---|---:|---:|---:|---:|\n";
     for (const PairSeparation& p : r.pairs)
         out += "| " + objects[size_t(p.a)] + " / " + objects[size_t(p.b)] + " | " +
-               fmt("%.4g", p.metric.eSum) + " | " + std::to_string(p.metric.areaA) + " | " +
-               std::to_string(p.metric.areaB) + " |\n";
+               fmt("%.4g", p.score) + " | " + fmt("%.4g", p.metric.eSum) + " | " +
+               std::to_string(p.metric.areaA) + " | " + std::to_string(p.metric.areaB) + " |\n";
     return out;
 }
 
 RgbImage separationMap(const SeparationLayers& layers, int a, int b, double threshold) {
-    const std::vector<float> ca = contrastLattice(layers.specular[size_t(a)], layers.beauty);
-    const std::vector<float> cb = contrastLattice(layers.specular[size_t(b)], layers.beauty);
+    const std::vector<float> beauty = beautyOf(layers);
+    const size_t n = layers.pixelCount();
+    auto contrast = [&](int o) {
+        std::vector<float> c(n, 0.0f);
+        for (size_t i = 0; i < n; ++i) {
+            const double y = lum(&beauty[3 * i]);
+            if (y > 0.0) c[i] = float(lum(&layers.specular[size_t(o)][3 * i]) / y);
+        }
+        return c;
+    };
+    const std::vector<float> ca = contrast(a), cb = contrast(b);
     auto scaleOf = [&](const std::vector<float>& c) {
         std::vector<float> lit;
         for (float v : c)

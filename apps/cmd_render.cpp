@@ -209,7 +209,8 @@ std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
         {reinterpret_cast<unsigned char*>(film.data()), sizeof(Spectrum)}};
     const size_t pixels = size_t(film.width()) * size_t(film.height());
     for (std::vector<float>* pass : {&aovs.lambert, &aovs.specular, &aovs.backdrop, &aovs.depth,
-                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular, &aovs.alpha})
+                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular, &aovs.alpha,
+                                     &aovs.objectDepth})
         if (!pass->empty())
             buffers.push_back({reinterpret_cast<unsigned char*>(pass->data()),
                                pass->size() / pixels * sizeof(float)});

@@ -29,7 +29,9 @@ struct SeparationCommand {
     std::vector<std::string> scenes;
     std::string outDir = "separation";
     SceneOverrides overrides;
-    double contrast = kWeberContrast;
+    double contrast = -1.0;  // default: the metric's (Weber 0.02, ΔE_ITP 1)
+    std::string metric = "weber";
+    double peak = 100.0;
     int threads = 0;
     bool quiet = false;
     std::vector<std::string> merge;  // NAME=OBJECT,OBJECT,...
@@ -43,8 +45,13 @@ std::string fileSafe(const std::string& s) {
 
 void runSeparation(const SeparationCommand& cmd) {
     cmd.overrides.validate();
-    if (!(cmd.contrast > 0.0 && cmd.contrast < 1.0))
-        throw Error("--contrast must be in (0, 1), got " + std::to_string(cmd.contrast));
+    const SeparationMetric metric = parseSeparationMetric(cmd.metric);
+    const bool itp = metric == SeparationMetric::Itp;
+    const double threshold = cmd.contrast > 0.0 ? cmd.contrast : itp ? kItpThreshold : kWeberContrast;
+    if (!itp && !(threshold > 0.0 && threshold < 1.0))
+        throw Error("--contrast must be in (0, 1) for --metric weber, got " + std::to_string(threshold));
+    if (!(cmd.peak >= 1.0 && cmd.peak <= 10000.0))
+        throw Error("--peak must be in [1, 10000] cd/m², got " + std::to_string(cmd.peak));
     if (cmd.scenes.empty()) throw Error("no scene given");
     std::vector<SceneSpec> specs;
     std::map<std::string, std::string> stems;
@@ -62,7 +69,7 @@ void runSeparation(const SeparationCommand& cmd) {
     createOutputFolder(cmd.outDir);
     AovRequest request;
     request.objects = request.backdrop = true;
-    std::string summary = "scene,score";
+    std::string summary = "scene,score,highlight";
     const size_t maxObjects = [&] {
         size_t m = 0;
         for (const SceneSpec& s : specs) m = std::max(m, s.objects.size());
@@ -80,8 +87,9 @@ void runSeparation(const SeparationCommand& cmd) {
         options.progress = !cmd.quiet;
         options.label = "separation " + spec.title;
         AovImage aovs;
-        const Film film = scene.render(options, nullptr, &request, &aovs);
-        SeparationLayers layers = separationLayers(spec, film, aovs);
+        const Film film = scene.render(options, nullptr, &request, &aovs);  // its PNG below
+        SeparationLayers layers = separationLayers(spec, aovs);
+        layers.peakLuminance = cmd.peak;
         for (const std::string& m : cmd.merge) {
             const auto eq = m.find('=');
             if (eq == std::string::npos || eq == 0 || eq + 1 == m.size())
@@ -93,7 +101,7 @@ void runSeparation(const SeparationCommand& cmd) {
             members.push_back(m.substr(start));
             layers = mergeObjects(layers, m.substr(0, eq), members);
         }
-        const SeparationReport report = measureSeparation(layers, cmd.contrast);
+        const SeparationReport report = measureSeparation(layers, threshold, metric);
 
         const std::string stem = fs::path(spec.path).stem().string();
         const fs::path base = fs::path(cmd.outDir) / stem;
@@ -108,10 +116,12 @@ void runSeparation(const SeparationCommand& cmd) {
             writeImage((base / (fileSafe(layers.objects[size_t(p.a)]) + "_vs_" +
                                 fileSafe(layers.objects[size_t(p.b)]) + ".png"))
                            .string(),
-                       separationMap(layers, p.a, p.b, cmd.contrast));
+                       separationMap(layers, p.a, p.b, itp ? kWeberContrast : threshold));
         char buf[64];
         std::snprintf(buf, sizeof buf, "%.6g", report.score);
         summary += stem + "," + buf;
+        std::snprintf(buf, sizeof buf, ",%.6g", report.highlight);
+        summary += buf;
         for (const ObjectVisibility& v : report.objects) {
             std::snprintf(buf, sizeof buf, ",%.4f,%.4f", v.visibleShare, v.specularShare);
             summary += "," + v.name + buf;
@@ -135,13 +145,22 @@ void registerSeparationCommand(CLI::App& app) {
     static SeparationCommand cmd;
     CLI::App* sub = app.add_subcommand(
         "separation",
-        "Measure how far the objects' highlights stay apart in a rendering (per-object passes, "
-        "total flux overlap on Weber contrast; docs/separation.md)");
+        "Measure whether a viewer can tell the objects of a rendering apart: highlight separation "
+        "(total flux overlap) weighted by each object's visibility, veiling and colour identity "
+        "(per-object passes; docs/separation.md)");
     sub->add_option("scenes", cmd.scenes, "scene files")->required();
     sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
     cmd.overrides.addOptions(*sub);
+    sub->add_option("--metric", cmd.metric,
+                    "weber: Weber-contrast highlights × visibility, veiling, identity; itp: "
+                    "ΔE_ITP detection maps of each specular pass (BT.2124)")
+        ->capture_default_str();
     sub->add_option("--contrast", cmd.contrast,
-                    "Weber contrast at which a highlight counts as seen")->capture_default_str();
+                    "threshold at which a highlight counts as seen (default: Weber contrast "
+                    "0.02; ΔE_ITP 1 with --metric itp)");
+    sub->add_option("--peak", cmd.peak,
+                    "display peak luminance in cd/m² for --metric itp (sRGB display model)")
+        ->capture_default_str();
     sub->add_option("--merge", cmd.merge,
                     "score several objects as one: NAME=OBJECT,OBJECT,... (repeatable)");
     sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")

@@ -80,24 +80,11 @@ std::vector<int> slotOfObject(const SceneSpec& spec) {
     return slot;
 }
 
-AssignmentLayers mergeMaps(const AssignmentLayers& in, const SceneSpec& spec) {
-    const std::vector<int> slot = slotOfObject(spec);
-    const int slots = *std::max_element(slot.begin(), slot.end()) + 1;
-    AssignmentLayers out;
-    out.width = in.width;
-    out.height = in.height;
-    out.candidates = in.candidates;
-    out.base = in.base;
-    out.objects.resize(size_t(slots));
-    const size_t m = in.candidates.size(), n = in.pixelCount();
-    out.specular.assign(size_t(slots) * m, std::vector<float>(n, 0.0f));
-    for (size_t o = 0; o < in.objects.size(); ++o) {
-        out.objects[size_t(slot[o])] = isMap(in.objects[o]) ? "density maps" : in.objects[o];
-        for (size_t c = 0; c < m; ++c)
-            for (size_t i = 0; i < n; ++i)
-                out.specular[size_t(slot[o]) * m + c][i] += in.layer(int(o), int(c))[i];
-    }
-    return out;
+AssignmentLayers mergeMaps(const AssignmentLayers& in, const SceneSpec&) {
+    std::vector<std::string> maps;
+    for (const std::string& o : in.objects())
+        if (isMap(o)) maps.push_back(o);
+    return maps.empty() ? in : mergeAssignmentObjects(in, "density maps", maps);
 }
 
 SeparationLayers mergeMapLayers(const SeparationLayers& l) {
@@ -122,8 +109,8 @@ double fullRenderScore(SceneSpec spec, const std::vector<BrdfCandidate>& candida
     AovRequest request;
     request.objects = request.backdrop = true;
     AovImage aovs;
-    const Film film = scene.render(options, nullptr, &request, &aovs);
-    return measureSeparation(mergeMapLayers(separationLayers(spec, film, aovs))).score;
+    scene.render(options, nullptr, &request, &aovs);
+    return measureSeparation(mergeMapLayers(separationLayers(spec, aovs))).score;
 }
 
 std::string label(const std::vector<BrdfCandidate>& c, const std::vector<int>& a) {
@@ -142,7 +129,8 @@ int candidateIndex(const std::vector<BrdfCandidate>& c, const std::string& model
 
 int main(int argc, char** argv) {
     int size = 64, spp = 1, threads = 2, manySize = 32, subsets = 20, tuneSize = 64;
-    bool skipFull = false, onlyRenderings = false;
+    bool skipFull = false, onlyRenderings = false, kendall = false;
+    double kendallAlbedo = 0.1;
     std::string paperDir = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -156,15 +144,64 @@ int main(int argc, char** argv) {
         else if (a == "--skip-full") skipFull = true;
         else if (a == "--paper-dir" && i + 1 < argc) paperDir = argv[++i];
         else if (a == "--only-renderings") onlyRenderings = true;
+        else if (a == "--kendall") kendall = true;
+        else if (a == "--albedo" && i + 1 < argc) kendallAlbedo = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
                                  "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
-                                 "[--only-renderings]\n", argv[0]);
+                                 "[--only-renderings] [--kendall [--albedo A]]\n", argv[0]);
             return 2;
         }
     }
     const std::string scenes = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/";
     const std::vector<BrdfCandidate> nine = brdfCandidates(false);
+    if (kendall) {
+        // Rank agreement of the two measures (docs/separation.md) over all 729 assignments of the
+        // paper scene (maps merged), at the paper's parameters and at equal albedo 0.1.
+        const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
+        std::printf("# Weber score against the ΔE_ITP measure, %s/rendering-01.json at %d² × %d spp\n\n"
+                    "| lobes | Kendall τ (score, itp) | discordant / comparable | τ (highlight term H, itp) | "
+                    "best by score | best by itp |\n|---|---:|---:|---:|---|---|\n",
+                    paperDir.c_str(), size, spp);
+        for (int equal = 0; equal < 2; ++equal) {
+            std::vector<BrdfCandidate> c = nine;
+            if (equal) equalizeAlbedo(c, kendallAlbedo);
+            const AssignmentLayers l = mergeMaps(layersOf(paper, c, threads), paper);
+            const SeparationScorer weber(l.scene);
+            const SeparationScorer itp(l.scene, kItpThreshold, SeparationMetric::Itp);
+            std::vector<double> w, h, d;
+            std::vector<std::vector<int>> all;
+            for (int a = 0; a < 9; ++a)
+                for (int b = 0; b < 9; ++b)
+                    for (int m = 0; m < 9; ++m) {
+                        const std::vector<int> x = {a, b, m};
+                        const SeparationReport rw = assignmentReport(weber, l, x);
+                        w.push_back(rw.score);
+                        h.push_back(rw.highlight);
+                        d.push_back(assignmentReport(itp, l, x).score);
+                        all.push_back(x);
+                    }
+            const RankAgreement t = compareRankings(w, d), th = compareRankings(h, d);
+            const size_t bw = size_t(std::max_element(w.begin(), w.end()) - w.begin());
+            const size_t bd = size_t(std::max_element(d.begin(), d.end()) - d.begin());
+            std::printf("| %s | %.3f | %d / %d | %.3f | %s | %s |\n",
+                        equal ? "equal albedo" : "paper's parameters", t.kendallTau, t.discordant,
+                        t.comparable, th.kendallTau, label(c, all[bw]).c_str(), label(c, all[bd]).c_str());
+            for (int r = 1; r <= 24; ++r) {
+                char name[64];
+                std::snprintf(name, sizeof name, "/rendering-%02d.json", r);
+                const SceneSpec s = loadSceneFile(paperDir + name);
+                const std::vector<int> slot = slotOfObject(s);
+                std::vector<int> x(3, -1);
+                for (size_t o = 0; o < s.objects.size(); ++o)
+                    x[size_t(slot[o])] = candidateIndex(nine, s.objects[o].brdfModel);
+                const size_t i = size_t(x[0] * 81 + x[1] * 9 + x[2]);
+                std::fprintf(stderr, "%s rendering %d: score %.4f highlight %.4f itp %.3f\n",
+                             equal ? "equal" : "paper", r, w[i], h[i], d[i]);
+            }
+        }
+        return 0;
+    }
 
     // 1. Shortcut against full renders.
     const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
@@ -215,7 +252,7 @@ int main(int argc, char** argv) {
         const SpectrumEstimate a = directionalAlbedo(makeBrdf(nine[c].model), 0.0, 0.0, 16384, 8, 7);
         const double albedo = a.value.average(), k = albedo > 0.0 ? 0.1 / albedo : 1.0;
         std::printf("| %s | %.4f | %.3f |\n", nine[c].model.c_str(), albedo, k);
-        for (size_t o = 0; o < equal.objects.size(); ++o)
+        for (size_t o = 0; o < equal.objects().size(); ++o)
             for (float& v : equal.specular[o * nine.size() + c]) v = float(v * k);
     }
     std::printf("\n## The paper's 24 renderings among all 729 assignments\n\n"

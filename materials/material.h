@@ -11,6 +11,9 @@ struct Material {
     Brdf specular = Phong{};
     Spectrum kd{0.2};
     bool specularOn = true;  // false: Lambert only
+    // Multiplies f_s: the lobe scaled to a stated albedo at normal incidence (scene key
+    // brdf.albedo, materials/albedo.h); 1 leaves the model as its parameters make it.
+    double specularScale = 1.0;
 };
 
 }  // namespace lobe

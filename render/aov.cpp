@@ -53,6 +53,10 @@ Spectrum AovImage::specularAt(size_t p, int o) const {
 Spectrum AovImage::backdropAt(size_t p) const {
     return Spectrum(backdrop[p * 3], backdrop[p * 3 + 1], backdrop[p * 3 + 2]);
 }
+Spectrum AovImage::modelSpecularAt(size_t p, int o, int m) const {
+    const float* v = &modelSpecular[((p * objectCount + size_t(o)) * modelCount + size_t(m)) * 3];
+    return Spectrum(v[0], v[1], v[2]);
+}
 
 AovImage makeAovImage(const AovRequest& request, int width, int height, int objectCount) {
     AovImage a;
@@ -66,6 +70,7 @@ AovImage makeAovImage(const AovRequest& request, int width, int height, int obje
         a.lambert.assign(n * size_t(objectCount) * 3, 0.0f);
         a.specular.assign(n * size_t(objectCount) * 3, 0.0f);
     }
+    if (request.objects || !request.models.empty()) a.objectDepth.assign(n * size_t(objectCount), 0.0f);
     if (request.backdrop || request.topObject || !request.models.empty())
         a.backdrop.assign(n * 3, 0.0f);
     if (request.depth) a.depth.assign(n, 0.0f);
@@ -73,7 +78,7 @@ AovImage makeAovImage(const AovRequest& request, int width, int height, int obje
     if (request.topObject) a.topObject.assign(n, -1.0f);
     if (request.alpha) a.alpha.assign(n, 0.0f);
     if (a.modelCount > 0) {
-        a.modelSpecular.assign(n * size_t(objectCount) * size_t(a.modelCount), 0.0f);
+        a.modelSpecular.assign(n * size_t(objectCount) * size_t(a.modelCount) * 3, 0.0f);
         // The beauty minus the specular parts is needed to rebuild any assignment's image.
         a.lambert.assign(n * size_t(objectCount) * 3, 0.0f);
         a.specular.assign(n * size_t(objectCount) * 3, 0.0f);
@@ -86,14 +91,19 @@ AovAccumulator::AovAccumulator(const AovRequest& request, int objectCount,
     : request_(request), objects_(objectCount), lights_(lights) {
     lambert_.resize(size_t(objectCount));
     specular_.resize(size_t(objectCount));
-    modelSpecular_.resize(size_t(objectCount) * request.modelBrdfs.size());
+    modelSpecular_.resize(size_t(objectCount) * request.modelBrdfs.size() * 3);
     perModel_.resize(request.modelBrdfs.size());
+    objectDepthSum_.resize(size_t(objectCount));
+    objectDepthCount_.resize(size_t(objectCount));
+    objectSeen_.resize(size_t(objectCount));
 }
 
 void AovAccumulator::beginPixel() {
     std::fill(lambert_.begin(), lambert_.end(), Spectrum(0.0));
     std::fill(specular_.begin(), specular_.end(), Spectrum(0.0));
     std::fill(modelSpecular_.begin(), modelSpecular_.end(), 0.0);
+    std::fill(objectDepthSum_.begin(), objectDepthSum_.end(), 0.0);
+    std::fill(objectDepthCount_.begin(), objectDepthCount_.end(), 0);
     backdrop_ = Spectrum(0.0);
     depthSum_ = 0.0;
     depthCount_ = 0;
@@ -108,6 +118,7 @@ void AovAccumulator::beginSample(const Vec3& toViewer) {
     if (inSample_) coverageSum_ += 1.0 - sampleTransmittance_;
     sampleTransmittance_ = 1.0;
     inSample_ = true;
+    std::fill(objectSeen_.begin(), objectSeen_.end(), 0);
 }
 
 void AovAccumulator::onEvent(const ShadingEvent& e) {
@@ -126,6 +137,11 @@ void AovAccumulator::onEvent(const ShadingEvent& e) {
     }
     // Exactly the compositor's T after this event (render/compositor.h).
     sampleTransmittance_ = e.transmittanceBefore * (1.0 - e.alpha);
+    if (e.alpha > 0.0 && !objectSeen_[size_t(e.object)]) {  // the object's first event, this sample
+        objectSeen_[size_t(e.object)] = 1;
+        objectDepthSum_[size_t(e.object)] += e.t;
+        ++objectDepthCount_[size_t(e.object)];
+    }
     if (!e.point || e.weight == 0.0) return;
     if (!lambert_.empty()) {
         const ShadingTerms terms = shadeTerms(*e.point, toViewer_, lights_);
@@ -134,9 +150,11 @@ void AovAccumulator::onEvent(const ShadingEvent& e) {
     }
     const size_t m = request_.modelBrdfs.size();
     if (m > 0) {
-        shadeSpecularPerModel(*e.point, toViewer_, lights_, request_.modelBrdfs, perModel_.data());
+        shadeSpecularPerModel(*e.point, toViewer_, lights_, request_.modelBrdfs, perModel_.data(),
+                              request_.modelScales.empty() ? nullptr : request_.modelScales.data());
         for (size_t k = 0; k < m; ++k)
-            modelSpecular_[size_t(e.object) * m + k] += luminance(perModel_[k]) * e.weight;
+            for (int b = 0; b < 3; ++b)
+                modelSpecular_[(size_t(e.object) * m + k) * 3 + size_t(b)] += perModel_[k][b] * e.weight;
     }
 }
 
@@ -174,10 +192,16 @@ void AovAccumulator::finishPixel(int samples, size_t p, AovImage& out) const {
         out.topObject[p] = float(top);
     }
     const size_t m = request_.modelBrdfs.size();
-    for (size_t i = 0; i < size_t(objects_) * m; ++i) {
+    for (size_t i = 0; i < size_t(objects_) * m * 3; ++i) {
         const double v = modelSpecular_[i] * inv;
-        out.modelSpecular[p * size_t(objects_) * m + i] = imageFloat(v);
+        out.modelSpecular[p * size_t(objects_) * m * 3 + i] = imageFloat(v);
     }
+    if (!out.objectDepth.empty())
+        for (int o = 0; o < objects_; ++o) {
+            const int c = objectDepthCount_[size_t(o)];
+            const double d = c > 0 ? objectDepthSum_[size_t(o)] / c : 0.0;
+            out.objectDepth[p * size_t(objects_) + size_t(o)] = imageFloat(d);
+        }
 }
 
 namespace {

@@ -6,8 +6,11 @@
 // the backdrop's contribution; depth — the ray distance at which the accumulated opacity 1 − T
 // first reaches `depthOpacity`; the shading normal there (turned to the viewer); the object
 // contributing most (by luminance; −1: the backdrop). With `models`, also per object the
-// specular luminance it would contribute with each of those BRDFs instead of its own, from the
-// same render: transmittance never depends on a BRDF, so these layers are exact (`lobe assign`).
+// specular part (band triple) it would contribute with each of those BRDFs instead of its own,
+// from the same render: transmittance never depends on a BRDF, so these layers are exact
+// (`lobe assign`). With `objects`, also per object the distance along the ray of its first event
+// (mean over the samples that reach it): which object lies in front of which in each pixel, for
+// the veiling term of the separation score (analysis/separation.h).
 // Everything is averaged over the pixel's samples as the beauty image is.
 #pragma once
 
@@ -33,6 +36,7 @@ struct AovRequest {
     double depthOpacity = 0.5;
     std::vector<std::string> models;  // specular luminance per object per model
     std::vector<Brdf> modelBrdfs;     // filled from `models` at their defaults
+    std::vector<double> modelScales;  // per model: factor on f_s (empty: 1 for all)
 
     bool any() const {
         return objects || backdrop || depth || normal || topObject || alpha || !models.empty();
@@ -52,13 +56,17 @@ struct AovImage {
     std::vector<float> depth;              // 0 where no sample reached the opacity
     std::vector<float> normal;             // [pixel · 3 + axis], world space; 0 where no depth
     std::vector<float> topObject;          // object index, −1 for the backdrop
-    std::vector<float> modelSpecular;      // luminance: [(pixel · objectCount + object) · modelCount + model]
+    // bands: [((pixel · objectCount + object) · modelCount + model) · 3 + band]
+    std::vector<float> modelSpecular;
+    // per object: its first event's ray distance, mean over the samples that reach it; 0: none
+    std::vector<float> objectDepth;        // [pixel · objectCount + object]
     std::vector<float> alpha;              // coverage in [0, 1] (AovRequest::alpha)
 
     size_t pixelCount() const { return size_t(width) * height; }
     Spectrum lambertAt(size_t pixel, int object) const;
     Spectrum specularAt(size_t pixel, int object) const;
     Spectrum backdropAt(size_t pixel) const;
+    Spectrum modelSpecularAt(size_t pixel, int object, int model) const;
 };
 
 // Luminance Y of a band triple (CIE 1931: Y row of core/spectrum.h's cieRgbToXyz); linear, so
@@ -85,6 +93,9 @@ private:
     std::vector<Spectrum> lambert_, specular_;
     std::vector<double> modelSpecular_;
     std::vector<Spectrum> perModel_;  // scratch
+    std::vector<double> objectDepthSum_;
+    std::vector<int> objectDepthCount_;
+    std::vector<char> objectSeen_;  // this sample
     Spectrum backdrop_;
     double depthSum_ = 0.0;
     int depthCount_ = 0;

@@ -156,7 +156,10 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         point.colour = so.spec->color;
         point.highlight = so.spec->highlightTakesLight ? Spectrum(1.0) : so.spec->color;
         point.position = hit->position;
-        point.frame = Frame::fromNormalAndAxis(hit->normal, so.tangent.axis, so.tangent.fallback);
+        const Vec3 normal = so.smoothGrid ? smoothIsoNormal(*so.smoothGrid, so.smoothGeometry,
+                                                            hit->position, hit->normal)
+                                          : hit->normal;
+        point.frame = Frame::fromNormalAndAxis(normal, so.tangent.axis, so.tangent.fallback);
         Spectrum L;
         if (!cost) {
             L = shade(point, toViewer, spec.lights);

@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
@@ -269,6 +270,22 @@ void growByObjectBox(const ObjectSpec& object, const openvdb::FloatGrid& placed,
                    lo, hi);
 }
 
+}  // namespace
+
+Vec3 smoothIsoNormal(const openvdb::FloatGrid& grid, const GridGeometry& geometry,
+                     const Vec3& position, const Vec3& fallback) {
+    GridReconstructor reconstructor(grid);
+    Vec3 g;
+    reconstructor.bsplineWithGradient(geometry.worldToIndex(position), g);
+    Vec3 n = geometry.gradientToWorld(g);
+    const double length = n.length();
+    if (!(length > 0.0) || !std::isfinite(length)) return fallback;
+    n = n * (1.0 / length);
+    return n.dot(fallback) < 0.0 ? -n : n;
+}
+
+namespace {
+
 // The "levelset" method: a level-set source (grid class GRID_LEVEL_SET, e.g. a .vdb from
 // vdb_tool or Houdini) as it is, its zero crossing the surface; any other grid rebuilt as one.
 std::shared_ptr<const SurfaceGeometry> levelSetOf(const openvdb::FloatGrid::Ptr& grid,
@@ -395,7 +412,12 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
             const int id = surfaces_->add(geometries[i]);
             if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
-            surfaceObjects_.push_back({&object, int(i), tangent});
+            SceneSurface so{&object, int(i), tangent, nullptr, GridGeometry()};
+            if (object.isoNormals == "bspline") {
+                so.smoothGrid = grid;
+                so.smoothGeometry = GridGeometry(grid->transform(), context);
+            }
+            surfaceObjects_.push_back(so);
         } else {
             openvdb::FloatGrid::Ptr grid = objectGrid(object, *volume, context);
             growByObjectBox(object, *grid, objectBoxes[i].lo, objectBoxes[i].hi);

@@ -10,6 +10,7 @@
 #include "render/backdrop.h"
 #include "render/framing.h"
 #include "render/scene_description.h"
+#include "volume/reconstruction.h"
 #include "volume/volume.h"
 
 #include <map>
@@ -34,7 +35,17 @@ struct SceneSurface {
     const ObjectSpec* spec = nullptr;
     int objectIndex = 0;  // in SceneSpec::objects
     TangentAxes tangent;
+    // With "normals": "bspline": the grid (placed in the world) whose B-spline gradient gives the
+    // shading normal (smoothIsoNormal); null: the hit's own normal.
+    openvdb::FloatGrid::ConstPtr smoothGrid;
+    GridGeometry smoothGeometry;
 };
+
+// The unit gradient of `grid`'s cubic B-spline at world `position`, turned to the side of
+// `fallback` (the hit's own normal, which fixes the outward convention); `fallback` where the
+// gradient vanishes.
+Vec3 smoothIsoNormal(const openvdb::FloatGrid& grid, const GridGeometry& geometry,
+                     const Vec3& position, const Vec3& fallback);
 
 struct SceneVolume {
     const ObjectSpec* spec = nullptr;

@@ -63,6 +63,10 @@ struct ObjectSpec {
     // Iso-surfaces
     double iso = 0.5;
     std::string method = "exact";  // exact | mesh | levelset
+    // Shading normals: "trilinear", the gradient of the method's own (trilinear) field, which
+    // turns at every cell face (facets on coarse data); "bspline", the gradient of the cubic
+    // B-spline of the data at the hit (continuous across cells: volume/reconstruction.h).
+    std::string isoNormals = "trilinear";
     double levelSetVoxel = 0.0;      // levelset: world voxel size of the rebuild; 0: the source's
     double levelSetHalfWidth = 3.0;  // levelset: band half width in voxels
     int levelSetSmooth = 0;          // levelset: iterations of mean-curvature flow

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "core/nearest_name.h"
+#include "materials/albedo.h"
 #include "materials/registry.h"
 #include "render/framing.h"
 #include "render/scene_labels.h"
@@ -303,6 +304,14 @@ void readBrdf(Reader r, ObjectSpec& object) {
         setBrdfParam(*model, values, spec.name, v, r.file() + ": " + r.path());
     }
     object.material.specular = model->create(values);
+    if (r.has("albedo")) {  // the lobe scaled to this albedo at normal incidence (materials/albedo.h)
+        const double target = r.number("albedo", 0.1, 1e-6, 1.0);
+        try {
+            object.material.specularScale = albedoScale(object.material.specular, target);
+        } catch (const Error& e) {
+            r.fail(r.at("albedo"), e.what());
+        }
+    }
     r.finish();  // any other key is not a parameter of this model
 }
 
@@ -425,6 +434,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     if (o.kind == ObjectSpec::Kind::IsoSurface) {
         o.iso = r.number("iso", 0.5, -1e12, 1e12);
         o.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
+        o.isoNormals = r.string("normals", "trilinear", {"trilinear", "bspline"});
         if (o.method == "levelset") {
             o.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
             o.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);

@@ -16,7 +16,8 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
                             onEvaluation();
                             Spectrum f = material.kd * kInvPi;
-                            if (material.specularOn) f += evalBrdf(material.specular, wi, wo);
+                            if (material.specularOn)
+                                f += evalBrdf(material.specular, wi, wo) * material.specularScale;
                             radiance += f * light.intensity * g;
                         });
     return radiance;
@@ -58,7 +59,8 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
                             onEvaluation();
                             terms.lambert += m.kd * kInvPi * light.intensity * g;
                             if (m.specularOn)
-                                terms.specular += evalBrdf(m.specular, wi, wo) * light.intensity * g;
+                                terms.specular += evalBrdf(m.specular, wi, wo) * m.specularScale *
+                                                  light.intensity * g;
                         });
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
@@ -107,7 +109,7 @@ ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
 
 void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
                            const std::vector<PointLight>& lights, const std::vector<Brdf>& models,
-                           Spectrum* out) {
+                           Spectrum* out, const double* scales) {
     for (size_t m = 0; m < models.size(); ++m) out[m] = Spectrum(0.0);
     if (!point.hasFrame) return;
     const Frame frame = facingViewer(point.frame, toViewer);
@@ -115,7 +117,8 @@ void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
                             const Spectrum irradiance = light.intensity * g;
                             for (size_t m = 0; m < models.size(); ++m)
-                                out[m] += evalBrdf(models[m], wi, wo) * irradiance;
+                                out[m] += evalBrdf(models[m], wi, wo) *
+                                          (scales ? irradiance * scales[m] : irradiance);
                         });
     for (size_t m = 0; m < models.size(); ++m) out[m] = point.highlight * out[m];
 }

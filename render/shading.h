@@ -77,9 +77,10 @@ ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
 // The specular part the point would reflect with each of `models` instead of its own BRDF
 // (colour × Σ f_s^m · I cos θi / d²), written to out[0 … models.size()−1]; zero without a frame.
 // One frame and light loop serve all models (as the flux-overlap lattices do), so `lobe assign`
-// gets every model's layer from one render.
+// gets every model's layer from one render. `scales` (one per model, or null): factors on each
+// model's f_s, as Material::specularScale.
 void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
                            const std::vector<PointLight>& lights, const std::vector<Brdf>& models,
-                           Spectrum* out);
+                           Spectrum* out, const double* scales = nullptr);
 
 }  // namespace lobe

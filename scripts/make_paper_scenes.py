@@ -207,6 +207,29 @@ def skull_scene(model):
             "tangent_axis": [0, 0, 1]}]}
 
 
+# The paper-shape set (issue 25): the same 24 combinations with the lobes' magnitude controlled —
+# every lobe scaled to albedo SHAPE_ALBEDO at normal incidence (brdf.albedo, materials/albedo.h),
+# so the renderings differ by the lobes' shapes only; iso-surfaces shaded with the B-spline
+# gradient ("normals": "bspline": no facet per 2 mm cell on the density maps); and the
+# translucent skull's Lambert term lowered to SHAPE_SKULL_KD so that its many crossings do not
+# lay a grey veil over the brain (its highlights, which the question is about, keep their albedo).
+SHAPE_ALBEDO = 0.3
+SHAPE_SKULL_KD = 0.05
+
+
+def shape_scene(number, group, combo, zoom):
+    sc = scene(number, group, combo, zoom)
+    sc["title"] = "%d%s shape: %s" % (number, " zoom" if zoom else "", sc["title"].split(": ", 1)[1])
+    sc["group"] = "shape-" + sc["group"]
+    for o in sc["objects"]:
+        o["brdf"]["albedo"] = SHAPE_ALBEDO
+        if o["kind"] == "isosurface":
+            o["normals"] = "bspline"
+        if o["name"] == "skull":
+            o["kd"] = SHAPE_SKULL_KD
+    return sc
+
+
 def write_before(root):
     """The 24 renderings and close-ups as generated until this version, into root/paper and
     root/paper-zoom, with absolute data paths (into this checkout's assets/)."""
@@ -239,15 +262,17 @@ def main():
         with open(os.path.join(out, "skull-%s.json" % model), "w") as f:
             json.dump(skull_scene(model), f, indent=1)
             f.write("\n")
-    for folder, zoom in (("paper", False), ("paper-zoom", True)):
+    for folder, zoom, make in (("paper", False, scene), ("paper-zoom", True, scene),
+                               ("paper-shape", False, shape_scene),
+                               ("paper-shape-zoom", True, shape_scene)):
         out = os.path.join(ROOT, "assets", "scenes", folder)
         os.makedirs(out, exist_ok=True)
         for number, (group, combo) in enumerate(RENDERINGS, start=1):
             name = "rendering-%02d%s.json" % (number, "-zoom" if zoom else "")
             with open(os.path.join(out, name), "w") as f:
-                json.dump(scene(number, group, combo, zoom), f, indent=1)
+                json.dump(make(number, group, combo, zoom), f, indent=1)
                 f.write("\n")
-    print("wrote 57 scenes")
+    print("wrote 105 scenes")
 
 
 if __name__ == "__main__":

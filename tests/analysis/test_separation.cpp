@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace lobe {
 namespace {
 
@@ -23,15 +25,23 @@ std::vector<float> boxLayer(int n, const Box& b) {
     return v;
 }
 
+// A grey rgb layer of luminance `v` per pixel ((v, v, v) has sRGB luminance v).
+std::vector<float> grey(const std::vector<float>& v) {
+    std::vector<float> out;
+    for (float x : v) out.insert(out.end(), {x, x, x});
+    return out;
+}
+
+// Highlights only (no Lambert) over a grey backdrop of luminance 1: the highlight term alone
+// decides the score (visibility, veiling and identity have no matte footprint to measure).
 SeparationLayers twoObjects(int n, const Box& a, const Box& b) {
     SeparationLayers l;
     l.width = n;
     l.height = 1;
     l.objects = {"a", "b"};
-    l.specular = {boxLayer(n, a), boxLayer(n, b)};
-    l.total = l.specular;
-    l.beauty.assign(size_t(n), 1.0f);
-    for (int i = 0; i < n; ++i) l.beauty[size_t(i)] += l.specular[0][size_t(i)] + l.specular[1][size_t(i)];
+    l.specular = {grey(boxLayer(n, a)), grey(boxLayer(n, b))};
+    l.lambert = {grey(std::vector<float>(size_t(n), 0.0f)), grey(std::vector<float>(size_t(n), 0.0f))};
+    l.backdrop = grey(std::vector<float>(size_t(n), 1.0f));
     return l;
 }
 
@@ -40,6 +50,7 @@ TEST(Separation, DisjointHighlightsScoreTheDimmerContrast) {
     // contrast, OB/areaB B's; e = the smaller.
     const SeparationReport r = measureSeparation(twoObjects(40, {0, 10, 0.5}, {20, 25, 0.6}));
     ASSERT_EQ(r.pairs.size(), 1u);
+    EXPECT_NEAR(r.highlight, 0.5 / 1.5, 1e-6);
     EXPECT_NEAR(r.pairs[0].metric.eSum, 0.5 / 1.5, 1e-6);
     EXPECT_EQ(r.pairs[0].metric.areaA, 10);
     EXPECT_EQ(r.pairs[0].metric.areaB, 5);
@@ -83,12 +94,12 @@ TEST(Separation, BelowTheWeberThresholdAHighlightIsNotSeen) {
     EXPECT_EQ(r.objects[1].specularShare, 0.0);
 }
 
-TEST(Separation, ScoreIsExposureInvariantAndTheFastPathAgrees) {
+TEST(Separation, ScoreIsExposureInvariantAndTheScorerAgrees) {
     SeparationLayers l = twoObjects(40, {0, 10, 0.5}, {5, 15, 0.2});
     const double s = measureSeparation(l).score;
     std::vector<const float*> spec = {l.specular[0].data(), l.specular[1].data()};
-    EXPECT_EQ(separationScore(spec, l.beauty.data(), 40), s);
-    for (auto* layer : {&l.specular[0], &l.specular[1], &l.total[0], &l.total[1], &l.beauty})
+    EXPECT_EQ(SeparationScorer(l).score(spec), s);
+    for (auto* layer : {&l.specular[0], &l.specular[1], &l.lambert[0], &l.lambert[1], &l.backdrop})
         for (float& v : *layer) v *= 7.0f;
     EXPECT_NEAR(measureSeparation(l).score, s, 1e-6);
 }
@@ -98,12 +109,130 @@ TEST(Separation, MergedObjectsScoreAsOne) {
     SeparationLayers l = twoObjects(40, {0, 10, 0.5}, {20, 30, 0.6});
     SeparationLayers split = l;
     split.objects = {"a", "b1", "b2"};
-    split.specular = {l.specular[0], boxLayer(40, {20, 25, 0.6}), boxLayer(40, {25, 30, 0.6})};
-    split.total = split.specular;
+    split.specular = {l.specular[0], grey(boxLayer(40, {20, 25, 0.6})), grey(boxLayer(40, {25, 30, 0.6}))};
+    split.lambert = {l.lambert[0], l.lambert[0], l.lambert[0]};
     const SeparationLayers merged = mergeObjects(split, "b", {"b1", "b2"});
     EXPECT_EQ(merged.objects, (std::vector<std::string>{"a", "b"}));
     EXPECT_EQ(measureSeparation(merged).score, measureSeparation(l).score);
     EXPECT_THROW(mergeObjects(split, "b", {"b1", "c"}), Error);
+}
+
+// A translucent grey object "veil" in front of a red object "inner", on a 40-pixel image over a
+// grey backdrop (luminance 0.1):
+//   veil:  Lambert grey 0.05 on [0,40), depth 1;
+//   inner: Lambert red (0.30, 0.03, 0.03) on [10,30), depth 2 (3 when `veilBehind`: the veil then
+//          lies behind it there), its own highlight grey 0.3 on [20,25) (or, `tintedHighlight`,
+//          the same luminance in its own red);
+//   the veil's highlight: "narrow" grey 0.05 on [0,5), away from the inner object, or "broad"
+//   grey 1.0 on [10,20) and [25,30): over the inner object, around its highlight.
+enum class VeilHighlight { Narrow, Broad };
+SeparationLayers veilScene(VeilHighlight h, bool veilBehind = false, bool tintedHighlight = false) {
+    const int n = 40;
+    SeparationLayers l;
+    l.width = n;
+    l.height = 1;
+    l.objects = {"veil", "inner"};
+    l.backdrop = grey(std::vector<float>(n, 0.1f));
+    l.lambert = {grey(std::vector<float>(n, 0.05f)), std::vector<float>(3 * n, 0.0f)};
+    l.depth = {std::vector<float>(n, 1.0f), std::vector<float>(n, 0.0f)};
+    const float red[3] = {0.30f, 0.03f, 0.03f};
+    const double redY = 0.2126 * red[0] + 0.7152 * red[1] + 0.0722 * red[2];
+    std::vector<float> own(3 * n, 0.0f);
+    for (int i = 10; i < 30; ++i) {
+        for (int c = 0; c < 3; ++c) l.lambert[1][size_t(3 * i + c)] = red[c];
+        l.depth[1][size_t(i)] = 2.0f;
+        if (veilBehind) l.depth[0][size_t(i)] = 3.0f;
+    }
+    for (int i = 20; i < 25; ++i)
+        for (int c = 0; c < 3; ++c)
+            own[size_t(3 * i + c)] = tintedHighlight ? float(red[c] * 0.3 / redY) : 0.3f;
+    std::vector<float> veil(3 * n, 0.0f);
+    for (int i = 0; i < n; ++i) {
+        const bool on = h == VeilHighlight::Narrow ? i < 5 : (i >= 10 && i < 20) || (i >= 25 && i < 30);
+        if (on)
+            for (int c = 0; c < 3; ++c) veil[size_t(3 * i + c)] = h == VeilHighlight::Narrow ? 0.05f : 1.0f;
+    }
+    l.specular = {veil, own};
+    return l;
+}
+
+TEST(Separation, AHighlightThatVeilsAnotherObjectScoresLower) {
+    const SeparationReport narrow = measureSeparation(veilScene(VeilHighlight::Narrow));
+    const SeparationReport broad = measureSeparation(veilScene(VeilHighlight::Broad));
+    // The broad highlight stands out more: the highlight term alone prefers it (0.56 vs 0.25).
+    EXPECT_GT(broad.highlight, 2.0 * narrow.highlight) << broad.highlight << " " << narrow.highlight;
+    // ... but it lies over the inner object: veiled, less of the pixel, its red washed out.
+    const ObjectVisibility& in = broad.objects[1];
+    const ObjectVisibility& inNarrow = narrow.objects[1];
+    EXPECT_EQ(inNarrow.veiling, 0.0);
+    // W by hand: the inner object's matte weight w is the same on its 20 pixels; on 15 of them the
+    // veil's highlight is 1.0 of a pixel luminance 0.1 + 0.05 + Y(red) + 1.0.
+    const double redY = 0.2126 * 0.30 + 0.7152 * 0.03 + 0.0722 * 0.03;
+    EXPECT_NEAR(in.veiling, 15.0 / 20.0 * 1.0 / (0.15 + redY + 1.0), 1e-6);
+    // V by hand: its share Y(red)/Y on the 15 veiled pixels, (Y(red) + 0.3)/Y on its highlight.
+    EXPECT_NEAR(in.visibility,
+                (15 * redY / (0.15 + redY + 1.0) + 5 * (redY + 0.3) / (0.15 + redY + 0.3)) / 20, 1e-6);
+    EXPECT_NEAR(in.matteVisibility, redY / (0.15 + redY), 1e-6);
+    EXPECT_GE(inNarrow.visibility, inNarrow.matteVisibility);
+    EXPECT_LT(in.identity, inNarrow.identity);
+    EXPECT_LT(in.chroma, inNarrow.chroma);
+    EXPECT_LT(broad.score, narrow.score) << broad.score << " " << narrow.score;
+}
+
+TEST(Separation, TheSameLightInFrontVeilsBehindItDoesNot) {
+    // The same pixels, only the order differs: the veil's highlight in front of the inner object
+    // or behind it. Visibility and identity see the same pixels; the veiling term alone differs.
+    const SeparationReport front = measureSeparation(veilScene(VeilHighlight::Broad, false));
+    const SeparationReport behind = measureSeparation(veilScene(VeilHighlight::Broad, true));
+    EXPECT_DOUBLE_EQ(front.highlight, behind.highlight);
+    EXPECT_DOUBLE_EQ(front.objects[1].visibility, behind.objects[1].visibility);
+    EXPECT_DOUBLE_EQ(front.objects[1].identity, behind.objects[1].identity);
+    EXPECT_GT(front.objects[1].veiling, 0.5);
+    EXPECT_EQ(behind.objects[1].veiling, 0.0);
+    EXPECT_LT(front.score, behind.score);
+    // Without depth layers the order is unknown and nothing counts as veiling.
+    SeparationLayers noDepth = veilScene(VeilHighlight::Broad);
+    noDepth.depth.clear();
+    EXPECT_EQ(measureSeparation(noDepth).objects[1].veiling, 0.0);
+}
+
+TEST(Separation, AWhiteHighlightThatWashesOutTheColourScoresLower) {
+    // The inner object's own highlight at the same luminance, white or in its own red: the
+    // highlight term cannot tell them apart, identity can.
+    const SeparationReport white = measureSeparation(veilScene(VeilHighlight::Narrow, false, false));
+    const SeparationReport tinted = measureSeparation(veilScene(VeilHighlight::Narrow, false, true));
+    EXPECT_NEAR(white.highlight, tinted.highlight, 1e-6);
+    EXPECT_TRUE(white.objects[1].chromatic);
+    EXPECT_FALSE(white.objects[0].chromatic);  // the grey veil has no colour to keep
+    EXPECT_EQ(white.objects[0].identity, 1.0);
+    // Its red is mixed with the grey veil and backdrop everywhere (identity below 1 even tinted),
+    // and the white highlight takes a quarter of its pixels further towards grey.
+    EXPECT_LT(white.objects[1].identity, tinted.objects[1].identity - 0.05);
+    EXPECT_LT(white.objects[1].chroma, tinted.objects[1].chroma);
+    EXPECT_LT(white.score, tinted.score);
+}
+
+TEST(Separation, AnObjectAloneKeepsEverything) {
+    // Only the inner object's Lambert, no highlights, a black backdrop: it is the whole of its
+    // pixels, nothing veils it and its colour is its own.
+    SeparationLayers l = veilScene(VeilHighlight::Narrow);
+    std::fill(l.lambert[0].begin(), l.lambert[0].end(), 0.0f);
+    std::fill(l.backdrop.begin(), l.backdrop.end(), 0.0f);
+    for (auto& s : l.specular) std::fill(s.begin(), s.end(), 0.0f);
+    SeparationReport r = measureSeparation(l);
+    EXPECT_NEAR(r.objects[1].visibility, 1.0, 1e-6);
+    EXPECT_NEAR(r.objects[1].identity, 1.0, 1e-6);
+    EXPECT_NEAR(r.objects[1].quality, 1.0, 1e-6);
+    // Over a grey backdrop of luminance 0.1 it is Y(red)/(Y(red) + 0.1) of its pixels, and its
+    // red is mixed with that grey: identity falls below 1.
+    std::fill(l.backdrop.begin(), l.backdrop.end(), 0.1f);
+    r = measureSeparation(l);
+    const double redY = 0.2126 * 0.30 + 0.7152 * 0.03 + 0.0722 * 0.03;
+    EXPECT_NEAR(r.objects[1].visibility, redY / (redY + 0.1), 1e-6);
+    EXPECT_NEAR(r.objects[1].matteVisibility, redY / (redY + 0.1), 1e-6);
+    EXPECT_EQ(r.objects[1].veiling, 0.0);
+    EXPECT_LT(r.objects[1].identity, 0.6);
+    EXPECT_GT(r.objects[1].identity, 0.3);
 }
 
 // Two objects, three candidates each, on a 40-pixel image with base luminance 1:
@@ -112,14 +241,13 @@ TEST(Separation, MergedObjectsScoreAsOne) {
 // Disjoint pairs score the smaller contrast; the best is A1 + B2: min(0.8/1.8, 0.6/1.6) = 0.375.
 AssignmentLayers handLayers() {
     AssignmentLayers l;
-    l.width = 40;
-    l.height = 1;
-    l.objects = {"a", "b"};
+    l.scene = twoObjects(40, {0, 0, 0.0}, {0, 0, 0.0});
+    l.scene.specular.clear();
     l.candidates = {"c0", "c1", "c2"};
-    l.base.assign(40, 1.0f);
-    l.specular = {boxLayer(40, {0, 10, 0.5}),  boxLayer(40, {10, 20, 0.8}),
-                  boxLayer(40, {0, 40, 0.05}), boxLayer(40, {0, 10, 0.5}),
-                  boxLayer(40, {10, 20, 0.5}), boxLayer(40, {20, 30, 0.6})};
+    l.candidateModels = {"m0", "m1", "m2"};
+    l.specular = {grey(boxLayer(40, {0, 10, 0.5})),  grey(boxLayer(40, {10, 20, 0.8})),
+                  grey(boxLayer(40, {0, 40, 0.05})), grey(boxLayer(40, {0, 10, 0.5})),
+                  grey(boxLayer(40, {10, 20, 0.5})), grey(boxLayer(40, {20, 30, 0.6}))};
     return l;
 }
 
@@ -159,6 +287,89 @@ TEST(Assign, LocalSearchFindsItFromABadStartAndKeepsFixedObjects) {
     const AssignResult e = searchAssignments(l, ex);
     EXPECT_NEAR(e.ranked[0].score, 0.5 / 1.5, 1e-6);
     for (int c : e.ranked[0].assignment) EXPECT_NE(c, 2);
+}
+
+TEST(Assign, DistinctNeverRepeatsAModel) {
+    AssignmentLayers l = handLayers();
+    // Candidates 0 and 1 are two settings of one model: distinct forbids pairing them too.
+    l.candidateModels = {"m0", "m0", "m2"};
+    AssignOptions o;
+    o.distinct = true;
+    o.top = 100;
+    const AssignResult r = searchAssignments(l, o);
+    ASSERT_FALSE(r.ranked.empty());
+    for (const ScoredAssignment& a : r.ranked)
+        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])], l.candidateModels[size_t(a.assignment[1])]);
+    // Of the 9 assignments, (0,0), (0,1), (1,0), (1,1), (2,2) repeat a model.
+    EXPECT_EQ(r.rejected, 5u);
+    EXPECT_EQ(r.ranked.size(), 4u);
+    // With candidate 2 forbidden for both objects (objectAllowed), only m0 is left: nothing is
+    // admissible.
+    o.objectAllowed = {{true, true, false}, {true, true, false}};
+    const AssignResult none = searchAssignments(l, o);
+    EXPECT_TRUE(none.ranked.empty());  // every remaining assignment repeats model m0
+    // The local search keeps the rule too.
+    AssignOptions local;
+    local.distinct = true;
+    local.exhaustiveLimit = 0;
+    local.start = {0, 0};
+    for (const ScoredAssignment& a : searchAssignments(l, local).ranked)
+        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])], l.candidateModels[size_t(a.assignment[1])]);
+}
+
+TEST(Assign, BoundsRejectAssignmentsThatLoseAnObject) {
+    // The veil scene as assignment layers: the veil may take the narrow or the broad highlight.
+    const SeparationLayers narrow = veilScene(VeilHighlight::Narrow);
+    const SeparationLayers broad = veilScene(VeilHighlight::Broad);
+    AssignmentLayers l;
+    l.scene = narrow;
+    l.scene.specular.clear();
+    l.candidates = {"narrow", "broad"};
+    l.candidateModels = {"n", "b"};
+    l.specular = {narrow.specular[0], broad.specular[0], narrow.specular[1], narrow.specular[1]};
+    const SeparationReport input = measureSeparation(narrow);
+    AssignOptions o;
+    o.fixed = {-1, 0};
+    o.minVisibility = {0.8 * input.objects[0].visibility, 0.8 * input.objects[1].visibility};
+    o.minChroma = {0.8 * input.objects[0].chroma, 0.8 * input.objects[1].chroma};
+    const AssignResult r = searchAssignments(l, o);
+    ASSERT_EQ(r.ranked.size(), 1u);
+    EXPECT_EQ(r.ranked[0].assignment[0], 0);  // the broad veil loses the inner object
+    EXPECT_EQ(r.rejected, 1u);
+    EXPECT_TRUE(withinBounds(input, o));
+    EXPECT_FALSE(withinBounds(measureSeparation(broad), o));
+    // Brightness band: the veil's own light where it shows is 0.05 (Lambert) plus its highlight;
+    // the broad highlight adds 1.0 on 15 of its 40 pixels, the narrow one 0.05 on 5: the broad
+    // one more than doubles its mean luminance and leaves a band of ×1/2 … ×2.
+    const double narrowY = input.objects[0].meanLuminance;
+    const double broadY = measureSeparation(broad).objects[0].meanLuminance;
+    EXPECT_GT(broadY, 2.0 * narrowY);
+    AssignOptions band;
+    band.fixed = {-1, 0};
+    band.minLuminance = {narrowY / 2.0, 0.0};
+    band.maxLuminance = {narrowY * 2.0, 1e9};
+    const AssignResult b = searchAssignments(l, band);
+    ASSERT_EQ(b.ranked.size(), 1u);
+    EXPECT_EQ(b.ranked[0].assignment[0], 0);  // the broad highlight leaves the band
+}
+
+TEST(Assign, SparkleIsSpecksNotBroadHighlights) {
+    const int w = 16, h = 16;
+    std::vector<float> speck(3 * w * h, 0.0f), blob(3 * w * h, 0.0f);
+    for (int c = 0; c < 3; ++c) speck[size_t(3 * (5 * w + 5) + c)] = 1.0f;  // one pixel
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double r2 = (x - 8) * (x - 8) + (y - 8) * (y - 8);
+            for (int c = 0; c < 3; ++c) blob[size_t(3 * (y * w + x) + c)] = float(std::exp(-r2 / 8.0));
+        }
+    EXPECT_EQ(sparkleShare(speck.data(), w, h), 1.0);
+    EXPECT_EQ(sparkleShare(blob.data(), w, h), 0.0);
+    // Two specks among a faint broad highlight: their share of the light.
+    std::vector<float> mixed = blob;
+    for (int c = 0; c < 3; ++c) mixed[size_t(3 * (1 * w + 1) + c)] = 2.0f;
+    double total = 0.0;
+    for (size_t i = 0; i < mixed.size(); i += 3) total += mixed[i];
+    EXPECT_NEAR(sparkleShare(mixed.data(), w, h), 2.0 / total, 1e-6);
 }
 
 }  // namespace

@@ -676,6 +676,49 @@ TEST(Cli, AssignWritesALoadableSceneAndNeverOverwrites) {
     EXPECT_FALSE(fs::exists(d / "x.json"));
 }
 
+TEST(Cli, AssignNamesItsModelsAndKeepsTheRules) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    const std::string best = (d / "distinct.json").string();
+    CliRun r = lobe("assign " + quote(scene) + " --out " + quote(best) +
+                    " --width 32 --spp 1 --distinct --equal-albedo --keep-visible 0 --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string text = readFile(best);
+    // Six objects, nine models, --distinct: six different "model" values; every lobe at albedo 0.1.
+    std::vector<std::string> models;
+    for (size_t at = 0; (at = text.find("\"model\": \"", at)) != std::string::npos;) {
+        at += 10;
+        models.push_back(text.substr(at, text.find('"', at) - at));
+    }
+    ASSERT_EQ(models.size(), 6u) << text;
+    std::sort(models.begin(), models.end());
+    EXPECT_EQ(std::unique(models.begin(), models.end()), models.end()) << text;
+    size_t albedos = 0;
+    for (size_t at = 0; (at = text.find("\"albedo\": 0.1", at)) != std::string::npos; ++at) ++albedos;
+    EXPECT_EQ(albedos, 6u) << text;
+    // The title and group name the chosen models, not the input's "1: Ward / Ashikhmin / …", "A".
+    EXPECT_EQ(text.find("1: Ward / Ashikhmin"), std::string::npos);
+    const size_t title = text.find("\"title\": \"assign: skull ");
+    ASSERT_NE(title, std::string::npos) << text;
+    const size_t group = text.find("\"group\": \"assign-");
+    ASSERT_NE(group, std::string::npos) << text;
+    const std::string titleLine = text.substr(title, text.find('\n', title) - title);
+    const std::string groupLine = text.substr(group, text.find('\n', group) - group);
+    for (const std::string& m : models) EXPECT_NE(groupLine.find(m), std::string::npos) << groupLine;
+    EXPECT_NE(titleLine.find("density map 3 "), std::string::npos) << titleLine;
+    // The report gives every object's visibility and chroma before and after.
+    const std::string report = readFile(d / "distinct-assign.md");
+    EXPECT_NE(report.find("| object | input model | chosen model | V before | V after |"),
+              std::string::npos) << report;
+    EXPECT_NE(report.find("no two objects share a model"), std::string::npos) << report;
+    // Bad values are named, nothing written.
+    r = lobe("assign " + quote(scene) + " --out " + quote((d / "y.json").string()) +
+             " --equal-albedo 2 --width 8 --spp 1 --quiet");
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("--equal-albedo: expected an albedo in (0, 1], got '2'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(d / "y.json"));
+}
+
 // ---- lobe convert, info ----------------------------------------------------------------------
 
 TEST(Cli, ConvertWithALayoutContradictingTheDataWritesNothing) {

@@ -90,6 +90,7 @@ TEST(Aov, PassesDoNotDependOnTheThreadCount) {
     EXPECT_EQ(one.lambert, two.lambert);
     EXPECT_EQ(one.specular, two.specular);
     EXPECT_EQ(one.modelSpecular, two.modelSpecular);
+    EXPECT_EQ(one.objectDepth, two.objectDepth);
     EXPECT_EQ(one.depth, two.depth);
     EXPECT_EQ(one.normal, two.normal);
     EXPECT_EQ(one.topObject, two.topObject);
@@ -102,7 +103,6 @@ TEST(Aov, OwnModelLayerEqualsTheSpecularPass) {
     const AovRequest request = everything();
     AovImage a;
     renderPasses(scene, 2, &request, &a);
-    const size_t k = size_t(a.objectCount), m = request.models.size();
     std::vector<size_t> own;
     for (const ObjectSpec& o : scene.spec().objects) {
         const auto it = std::find(request.models.begin(), request.models.end(), o.brdfModel);
@@ -112,7 +112,7 @@ TEST(Aov, OwnModelLayerEqualsTheSpecularPass) {
     double total = 0.0;
     for (size_t p = 0; p < a.pixelCount(); ++p)
         for (int o = 0; o < a.objectCount; ++o) {
-            const double layer = a.modelSpecular[(p * k + size_t(o)) * m + own[size_t(o)]];
+            const double layer = luminance(a.modelSpecularAt(p, o, int(own[size_t(o)])));
             const double pass = luminance(a.specularAt(p, o));
             EXPECT_NEAR(layer, pass, 2e-6 * pass + 1e-9) << "pixel " << p << " object " << o;
             total += layer;
