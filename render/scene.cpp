@@ -382,12 +382,14 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
     // The surfaces first, built in parallel (a segmentation's labels are many small, independent
     // surfaces); each is deterministic, and they are added below in object order.
     std::vector<std::shared_ptr<const SurfaceGeometry>> geometries(spec_.objects.size());
+    std::vector<openvdb::FloatGrid::Ptr> grids(spec_.objects.size());  // for smooth normals
     std::vector<std::string> failures(spec_.objects.size());
     tbb::parallel_for(size_t(0), spec_.objects.size(), [&](size_t i) {
         const ObjectSpec& object = spec_.objects[i];
         if (object.kind != ObjectSpec::Kind::IsoSurface) return;
         try {
             const openvdb::FloatGrid::Ptr grid = objectGrid(object, *volumes.get(object.source), contextOf(i));
+            grids[i] = grid;
             if (object.method == "mesh") {
                 geometries[i] = std::make_shared<IsoMeshSurface>(*grid, object.iso, object.name);
             } else if (object.method == "levelset") {
@@ -414,8 +416,8 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
             SceneSurface so{&object, int(i), tangent, nullptr, GridGeometry()};
             if (object.isoNormals == "bspline") {
-                so.smoothGrid = grid;
-                so.smoothGeometry = GridGeometry(grid->transform(), context);
+                so.smoothGrid = grids[i];
+                so.smoothGeometry = GridGeometry(grids[i]->transform(), context);
             }
             surfaceObjects_.push_back(so);
         } else {
