@@ -3,6 +3,7 @@
 // volume.cpp turns a DenseVolume into an OpenVDB grid.
 #pragma once
 
+#include "volume/volume_array.h"
 #include "volume/volume_layout.h"
 
 #include <array>
@@ -39,6 +40,7 @@ DenseVolume decodeVoxels(const std::string& path, const std::vector<unsigned cha
 DenseVolume readRawDense(const std::string& path, const RawLayout& layout);
 DenseVolume readNiftiDense(const std::string& path);
 DenseVolume readNrrdDense(const std::string& path);
+DenseVolume readArrayDense(const VolumeArray& array);  // volume/volume_array.cpp
 
 bool endsWith(const std::string& s, const std::string& suffix);  // case-insensitive
 
