@@ -8,9 +8,11 @@
 #include "materials/material.h"
 #include "render/background.h"
 #include "volume/transfer_function.h"
+#include "volume/volume_array.h"
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +33,9 @@ struct VolumeSourceSpec {
     double divideByPercentile = 0.0;             // "divide_by": "p99": by that percentile (0: none)
     double background = 0.0;                     // file units: voxels ≤ this are inactive
     double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
+    // In place of a file: an array in memory ("array": NAME, resolved by parseScene from the
+    // arrays it is given — the Python module's; render/scene_file.h). path is empty then.
+    std::shared_ptr<const VolumeArray> array;
 };
 
 // Object-to-world map: world = linear · p + translation, p in the volume's own world space
