@@ -200,7 +200,7 @@ class Arrays(Files):
                               dict(raw_core, array=np.asfortranarray(scaled))),
             "a strided view, int64": ({"array": np.repeat(self.ball, 2, axis=1)[:, ::2, :],
                                        "affine": AFFINE},
-                                      dict(raw_core, array=(self.core.astype(np.int64) * 2 + 20),
+                                      dict(raw_core, array=self.core.astype(np.int64) + 20,
                                            divide_by=1000, background=20)),
             "4-D with one volume": ({"array": self.ball[..., None], "affine": AFFINE},
                                     dict(raw_core, array=scaled[..., None])),
@@ -248,7 +248,7 @@ class Arrays(Files):
         d = scene.to_dict()
         self.assertIs(d["objects"][0]["source"]["array"], self.ball)
         self.assertEqual(d["objects"][1]["source"]["path"], os.path.abspath(self.core_path))
-        d["objects"][0]["brdf"] = {"model": "phong", "n": 20}
+        d["objects"][0]["brdf"] = {"model": "phong", "exponent": 20}
         changed = lobe.Scene(d).render(spp=1)["beauty"]
         self.assertFalse(np.array_equal(bits(changed), bits(scene.render(spp=1)["beauty"])))
 
@@ -354,7 +354,7 @@ class Interrupt(unittest.TestCase):
             done, total = int(line[1]), int(line[3])
             self.assertLess(done, total // 2)  # far from finished
             self.assertLess(stopped, 1.0)
-            self.assertEqual(child.stdout.readline().strip(), "again (5, 8, 3)")
+            self.assertEqual(child.stdout.readline().strip(), "again (7, 8, 3)")
         finally:
             child.kill()
             child.wait()
@@ -395,14 +395,14 @@ class Brdf(unittest.TestCase):
     def test_eval_broadcasts_and_checks(self):
         wi = np.array([0.0, 0.3, 1.0])
         wo = np.array([[0.1, 0.0, 1.0], [0.5, 0.5, 0.7]])
-        values = lobe.brdf.eval("phong", {"n": 10}, wi, wo)
+        values = lobe.brdf.eval("phong", {"exponent": 10}, wi, wo)
         self.assertEqual(values.shape, (2, 3))
-        np.testing.assert_array_equal(values[1], lobe.brdf.eval("phong", {"n": 10}, wi, wo[1]))
+        np.testing.assert_array_equal(values[1], lobe.brdf.eval("phong", {"exponent": 10}, wi, wo[1]))
         with self.assertRaises(lobe.Error):
             lobe.brdf.eval("phong", {}, [0, 0, 0], wo)
         with self.assertRaises(lobe.Error) as caught:
-            lobe.brdf.eval("phong", {"n": -1}, wi, wo)
-        self.assertIn("n", str(caught.exception))
+            lobe.brdf.eval("phong", {"exponent": -1}, wi, wo)
+        self.assertIn("exponent", str(caught.exception))
         with self.assertRaises(lobe.Error):
             lobe.brdf.eval("nonesuch", {}, wi, wo)
 
