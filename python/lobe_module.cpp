@@ -508,7 +508,10 @@ py::dict render(const PyScene& scene, const RenderArgs& args, const std::vector<
         out["alpha"] = a;
     }
     // The passes by layer: "<object>.lambert", "<object>.specular", "backdrop" (× 3), "depth",
-    // "normal" (× 3), "id" — the EXR's channels <layer>.R/G/B, depth.Z, N.X/Y/Z, object.id.
+    // "normal" (× 3), "id" — the EXR's channels <layer>.R/G/B, depth.Z, N.X/Y/Z, object.id. The
+    // object layers come first, two per object in scene order, keyed by the object's own name
+    // (the EXR's channel-safe name where a name repeats).
+    size_t objectLayer = 0;
     for (size_t c = 0; c < extra.names.size();) {
         const std::string& n = extra.names[c];
         const std::string prefix = n.substr(0, n.rfind('.'));
@@ -516,7 +519,13 @@ py::dict render(const PyScene& scene, const RenderArgs& args, const std::vector<
         while (c + depth < extra.names.size() &&
                extra.names[c + depth].substr(0, extra.names[c + depth].rfind('.')) == prefix)
             ++depth;
-        const std::string key = prefix == "N" ? "normal" : prefix == "object" ? "id" : prefix;
+        std::string key = prefix == "N" ? "normal" : prefix == "object" ? "id" : prefix;
+        if (asked.objects && objectLayer < 2 * names.size()) {
+            const std::string own =
+                names[objectLayer / 2] + (objectLayer % 2 == 0 ? ".lambert" : ".specular");
+            if (!out.contains(own)) key = own;
+            ++objectLayer;
+        }
         layer(key, 6 + c, int(depth));
         c += depth;
     }
@@ -823,7 +832,8 @@ Render the scene; returns a dict of float32 NumPy arrays: "beauty" (H x W x 3, l
 exposure: the R, G, B `lobe render` writes to its EXR), "alpha" (H x W) when aov holds "alpha" or
 the background is none, and the passes aov asks for ("all", "objects", "backdrop", "depth",
 "normal", "id"): "<object>.lambert", "<object>.specular", "backdrop" (H x W x 3), "depth",
-"id" (H x W), "normal" (H x W x 3). width alone keeps the aspect; unset values are the scene's.
+"id" (H x W), "normal" (H x W x 3), objects by their names in the scene. width alone keeps the
+aspect; unset values are the scene's.
 progress(done_pixels, total_pixels) is called about every 50 ms. Ctrl-C stops the render
 (KeyboardInterrupt) and returns nothing.)doc")
         .def(

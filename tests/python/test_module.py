@@ -156,6 +156,16 @@ class RenderEqualsCli(Files):
         self.assertEqual(calls[-1], (20 * 17, 20 * 17))
         self.assertEqual([c for c in calls if c[0] > c[1]], [])
 
+    def test_passes_are_keyed_by_object_name_and_add_up(self):
+        d = scene_dict(*self.file_sources())
+        d["objects"][0]["name"] = d["objects"][1]["name"] = "outer shell"
+        r = lobe.Scene(d).render(width=24, spp=1, aov="objects,backdrop")
+        self.assertEqual(sorted(r), ["backdrop", "beauty", "outer shell.lambert",
+                                     "outer shell.specular", "outer_shell_2.lambert",
+                                     "outer_shell_2.specular"])
+        total = sum(v for k, v in r.items() if k != "beauty").astype(np.float64)
+        np.testing.assert_allclose(total, r["beauty"], rtol=1e-5, atol=1e-6)
+
     def test_separation_equals_the_cli(self):
         path = self.write_scene("sep", scene_dict(*self.file_sources()))
         out = os.path.join(self.tmp, "separation")
