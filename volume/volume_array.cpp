@@ -24,10 +24,12 @@ void convert(const VolumeArray& a, DenseVolume& v) {
     size_t n = 0;
     for (int k = 0; k < a.dims[2]; ++k)
         for (int j = 0; j < a.dims[1]; ++j) {
-            const unsigned char* row = base + k * a.strides[2] + j * a.strides[1];
+            // Offsets summed as integers: with negative strides (a reversed view) a partial sum
+            // may lie outside the array, which a pointer must not.
+            const std::int64_t row = k * a.strides[2] + j * a.strides[1];
             for (int i = 0; i < a.dims[0]; ++i, ++n) {
                 T raw;
-                std::memcpy(&raw, row + i * a.strides[0], sizeof(T));
+                std::memcpy(&raw, base + (row + i * a.strides[0]), sizeof(T));
                 const double value = double(raw) * a.slope + a.inter;
                 const float stored = static_cast<float>(value);
                 if (!std::isfinite(double(raw)) || !std::isfinite(stored))

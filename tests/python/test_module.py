@@ -156,6 +156,18 @@ class RenderEqualsCli(Files):
         self.assertEqual(calls[-1], (20 * 17, 20 * 17))
         self.assertEqual([c for c in calls if c[0] > c[1]], [])
 
+    def test_an_exception_in_the_progress_callback_stops_the_render(self):
+        scene = lobe.Scene(scene_dict(*self.file_sources()))
+        seen = []
+
+        def progress(done, total):
+            seen.append(done)
+            raise RuntimeError("enough")
+
+        with self.assertRaisesRegex(RuntimeError, "enough"):
+            scene.render(width=1024, spp=64, progress=progress)
+        self.assertEqual(len(seen), 1)  # called once, then the render stopped
+
     def test_passes_are_keyed_by_object_name_and_add_up(self):
         d = scene_dict(*self.file_sources())
         d["objects"][0]["name"] = d["objects"][1]["name"] = "outer shell"
