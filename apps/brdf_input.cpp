@@ -25,11 +25,4 @@ bool parseSixNumbers(const std::string& line, double out[6]) {
     return count == 6 && (line.empty() || line.back() != ',');
 }
 
-bool unitDirection(double x, double y, double z, Vec3& out) {
-    const double m = std::max({std::abs(x), std::abs(y), std::abs(z)});
-    if (!(m > 0.0)) return false;
-    out = Vec3(x / m, y / m, z / m).normalized();
-    return true;
-}
-
 }  // namespace lobe

@@ -11,8 +11,6 @@ namespace lobe {
 // non-finite number.
 bool parseSixNumbers(const std::string& line, double out[6]);
 
-// (x, y, z) as a unit vector, divided by its largest component first so that neither 1e308 nor
-// 1e-300 components overflow or vanish in the length; false for the zero vector.
-bool unitDirection(double x, double y, double z, Vec3& out);
+// unitDirection (the directions' normalisation): core/math.h.
 
 }  // namespace lobe

@@ -46,12 +46,6 @@ std::string shellQuoted(const std::string& arg) {
     return out + "'";
 }
 
-// Linear sRGB → bands without clamping: a background colour outside the CIE RGB gamut keeps its
-// exact display colour.
-Spectrum srgbToBandsExact(const std::array<double, 3>& rgb) {
-    return linearSrgbToBandsUnclamped(rgb[0], rgb[1], rgb[2]);
-}
-
 }  // namespace
 
 void FigureOptions::addOptions(CLI::App& sub, const std::string& outOption) {
@@ -185,16 +179,6 @@ void writeContactSheet(const std::string& path, const std::vector<ContactSheetEn
     ImageWriteOptions options;
     options.attributes = sheetProvenance(captions);
     writeImagePending(path, makeContactSheet(entries, columns, thumbSize), options).commit();
-}
-
-void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,
-                         double exposure) {
-    if (background.mode != Background::Mode::Colour) return;
-    const size_t n = size_t(film.width()) * film.height();
-    if (alpha.size() != n) throw Error("internal: no coverage for the background colour");
-    const Spectrum colour = srgbToBandsExact(background.colour) * (1.0 / exposure);
-    Spectrum* pixels = film.data();
-    for (size_t i = 0; i < n; ++i) pixels[i] += colour * (1.0 - double(alpha[i]));
 }
 
 RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,

@@ -102,10 +102,7 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Film += (1 − alpha) · colour (the background's linear sRGB in bands, divided by the exposure so
-// the display shows it as given). Nothing for other backgrounds.
-void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,
-                         double exposure);
+// compositeBackground: render/background.h.
 // The display image: film → linear sRGB × exposure, the tone curve applied to the colour before
 // premultiplication by alpha (so an edge pixel keeps its hue), premultiplied again.
 RgbImage displayImage(const Film& film, const std::vector<float>* alpha, const std::string& tone,

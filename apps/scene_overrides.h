@@ -2,7 +2,7 @@
 // `lobe separation` and `lobe assign`: --width/--height/--spp/--step/--seed/--roulette/--preview.
 #pragma once
 
-#include "render/scene_description.h"
+#include "render/scene_overrides.h"
 
 #include <string>
 
@@ -12,19 +12,10 @@ class App;
 
 namespace lobe {
 
-struct SceneOverrides {
-    int width = 0, height = 0, spp = 0;
-    double step = 0.0;
-    double roulette = -1.0;  // < 0: the scenes' own
-    long long seed = -1;
-    bool preview = false;
-    bool preIntegrated = false;  // --pre-integrated: on for every scene
-
+// The settings, their check and how they apply: render/scene_overrides.h.
+struct SceneOverrides : RenderOverrides {
     // Adds the options to a subcommand.
     void addOptions(CLI::App& sub);
-    // Throws lobe::Error for a value out of range, naming the option.
-    void validate() const;
-    void apply(SceneSpec& spec) const;
 };
 
 }  // namespace lobe

@@ -29,6 +29,16 @@ inline Vec3 normalized(const Vec3& v) {
     return len > 0.0 ? v / len : Vec3(0.0);
 }
 
+// (x, y, z) as a unit vector, divided by its largest component first so that neither 1e308 nor
+// 1e-300 components overflow or vanish in the length; false for the zero vector. How `lobe brdf
+// eval` and the Python module's lobe.brdf.eval take their directions.
+inline bool unitDirection(double x, double y, double z, Vec3& out) {
+    const double m = std::max({std::abs(x), std::abs(y), std::abs(z)});
+    if (!(m > 0.0)) return false;
+    out = Vec3(x / m, y / m, z / m).normalized();
+    return true;
+}
+
 inline bool isFinite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

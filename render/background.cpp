@@ -1,6 +1,8 @@
 #include "render/background.h"
 
 #include "core/error.h"
+#include "core/film.h"
+#include "volume/transfer_function.h"
 
 #include <cctype>
 #include <cmath>
@@ -46,6 +48,19 @@ Background backgroundFromColour(const std::array<double, 3>& srgb, const std::st
         b.colour[size_t(c)] = srgbDecode(srgb[size_t(c)]);
     }
     return b;
+}
+
+void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,
+                         double exposure) {
+    if (background.mode != Background::Mode::Colour) return;
+    const size_t n = size_t(film.width()) * film.height();
+    if (alpha.size() != n) throw Error("internal: no coverage for the background colour");
+    // Linear sRGB → bands without clamping: a colour outside the CIE RGB gamut keeps its exact
+    // display colour.
+    const std::array<double, 3>& rgb = background.colour;
+    const Spectrum colour = linearSrgbToBandsUnclamped(rgb[0], rgb[1], rgb[2]) * (1.0 / exposure);
+    Spectrum* pixels = film.data();
+    for (size_t i = 0; i < n; ++i) pixels[i] += colour * (1.0 - double(alpha[i]));
 }
 
 }  // namespace lobe

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -37,5 +38,13 @@ struct Background {
 Background parseBackground(const std::string& text, const std::string& where);
 // [r, g, b], each in [0, 1], sRGB-encoded.
 Background backgroundFromColour(const std::array<double, 3>& srgb, const std::string& where);
+
+// Film += (1 − alpha) · colour (the background's linear sRGB in bands, divided by the exposure so
+// the display shows it as given), alpha the coverage per pixel. Nothing for other backgrounds.
+// What every rendered image gets before it is written (apps/figure_output.h) or returned (the
+// Python module).
+class Film;
+void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,
+                         double exposure);
 
 }  // namespace lobe

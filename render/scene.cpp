@@ -52,7 +52,8 @@ std::string sourceKey(const VolumeSourceSpec& s) {
     std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", int(s.divideByMax),
                   s.divideByPercentile, s.divideBy,
                   s.background, s.blurFwhmMm, s.spacing[0], s.spacing[1], s.spacing[2]);
-    std::string key = s.path + numbers + "|" + s.type + "|" + s.endian + "|" + s.series;
+    std::string key = (s.array ? "array:" + s.array->name : s.path) + numbers + "|" + s.type + "|" +
+                      s.endian + "|" + s.series;
     for (const std::string& p : s.morePaths) key += "|" + p;
     if (s.dims)
         for (int d : *s.dims) key += "|" + std::to_string(d);
@@ -77,7 +78,7 @@ Volume loadSource(const VolumeSourceSpec& s) {
     options.series = s.series;
     std::vector<std::string> paths{s.path};
     paths.insert(paths.end(), s.morePaths.begin(), s.morePaths.end());
-    Volume v = loadVolume(paths, options);
+    Volume v = s.array ? loadArray(*s.array, options) : loadVolume(paths, options);
     if (s.blurFwhmMm > 0.0) gaussianBlurFwhm(v, s.blurFwhmMm);
     return v;
 }

@@ -8,9 +8,11 @@
 #include "materials/material.h"
 #include "render/background.h"
 #include "volume/transfer_function.h"
+#include "volume/volume_array.h"
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +39,9 @@ struct VolumeSourceSpec {
     std::vector<int> labels;
     double labelSmooth = 0.6;   // "label_smooth": σ of the indicator's anti-aliasing, in voxels
     std::string labelTable;     // where the names came from ("" none), for messages
+    // In place of a file: an array in memory ("array": NAME, resolved by parseScene from the
+    // arrays it is given — the Python module's; render/scene_file.h). path is empty then.
+    std::shared_ptr<const VolumeArray> array;
 };
 
 // Object-to-world map: world = linear · p + translation, p in the volume's own world space

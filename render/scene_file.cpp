@@ -173,8 +173,18 @@ std::string unreachable(const std::string& p) {
 // object lists (its own "labels" key), so label_table and label_smooth need no source.labels.
 VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentation = false) {
     VolumeSourceSpec s;
+    // "array": an array in memory instead of a file (the Python module); parseScene resolves the
+    // name. The file keys describe a file's layout: an array has its own.
+    if (r.has("array")) {
+        auto named = std::make_shared<VolumeArray>();
+        named->name = r.requiredString("array");
+        for (const char* key : {"path", "series", "dims", "type", "endian", "spacing"})
+            if (r.has(key))
+                r.fail(r.at(key), "not with \"array\" (an array in memory has its own size, type "
+                                  "and affine)");
+        s.array = named;
+    } else if (r.has("path") && r.raw("path").is_array()) {
     // "path": one file or folder; or an array of files, the slices of one DICOM series.
-    if (r.has("path") && r.raw("path").is_array()) {
         const Json& list = r.raw("path");
         if (list.empty()) r.fail(r.at("path"), "an empty list (expected the files of a DICOM series)");
         for (const Json& item : list) {
@@ -736,7 +746,8 @@ private:
 
 }  // namespace
 
-SceneSpec parseScene(const std::string& text, const std::string& baseDir, const std::string& name) {
+SceneSpec parseScene(const std::string& text, const std::string& baseDir, const std::string& name,
+                     const SceneArrays* arrays) {
     // First the checks (SceneTextCheck), then the value, built without a callback: both linear.
     SceneTextCheck check;
     if (!Json::sax_parse(text, &check)) {
@@ -895,6 +906,17 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
                                           std::to_string(id) + " of " + key.first +
                                           " (a label belongs to one object)");
             }
+    }
+    for (size_t i = 0; i < scene.objects.size(); ++i) {  // in-memory sources by name
+        std::shared_ptr<const VolumeArray>& array = scene.objects[i].source.array;
+        if (!array) continue;
+        const std::string at = "objects[" + std::to_string(i) + "].source.array";
+        if (!arrays)
+            r.fail(at, "arrays in memory are given through the Python module (lobe.Scene, "
+                       "docs/python.md); a scene file names its data in \"path\"");
+        const auto it = arrays->find(array->name);
+        if (it == arrays->end() || !it->second) r.fail(at, "no array named '" + array->name + "'");
+        array = it->second;
     }
     std::vector<std::string> named = scene.fit.objects;
     named.insert(named.end(), scene.zoom.objects.begin(), scene.zoom.objects.end());

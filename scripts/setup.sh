@@ -14,6 +14,8 @@ packages=(
   clang libclang-rt-14-dev bc
   # the VTK comparison (bench/peers/run.sh), run with /usr/bin/python3
   python3-vtk9 xvfb xauth python3-numpy python3-scipy python3-nibabel python3-openimageio
+  # the Python module (python/, built against /usr/bin/python3) and its walk-through (docs/python.md)
+  pybind11-dev python3-dev python3-matplotlib
   # lobe study: its server, and the real-browser test
   libcpp-httplib-dev chromium chromium-driver python3-selenium
 )

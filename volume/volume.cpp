@@ -342,6 +342,13 @@ Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& opti
     return v;
 }
 
+Volume loadArray(const VolumeArray& array, const LoadOptions& options) {
+    if (options.hasLayout)
+        throw Error(array.name + ": an array has its own layout; the raw-file options (dims, type, "
+                                 "endian, spacing) do not apply");
+    return buildVolume(detail::readArrayDense(array), array.name, options);
+}
+
 Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& options) {
     if (paths.size() == 1) return loadVolume(paths.front(), options);
     for (const std::string& p : paths)

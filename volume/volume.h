@@ -31,6 +31,7 @@
 // write leaves nothing.
 #pragma once
 
+#include "volume/volume_array.h"
 #include "volume/volume_layout.h"
 
 #include <openvdb/openvdb.h>
@@ -73,6 +74,10 @@ Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& opti
 Volume loadVolume(const std::string& path, const LoadOptions& options = {});
 // One path as loadVolume; several are the files of one DICOM series (loadDicom).
 Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& options = {});
+// An array in memory (volume/volume_array.h): its values as a file's (raw · slope + inter, then
+// options' scaling and background; non-finite values refused), named array.name in errors and
+// as the Volume's sourcePath. A raw layout in options is an error.
+Volume loadArray(const VolumeArray& array, const LoadOptions& options = {});
 
 // Writes the volume's grid (named gridName, or "density") with its metadata (dims, source,
 // original range, value scale) so loadVdb restores the whole Volume. Temporary name + rename.

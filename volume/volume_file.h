@@ -3,6 +3,7 @@
 // volume.cpp turns a DenseVolume into an OpenVDB grid.
 #pragma once
 
+#include "volume/volume_array.h"
 #include "volume/volume_layout.h"
 
 #include <array>
@@ -41,6 +42,7 @@ DenseVolume readRawDense(const std::string& path, const RawLayout& layout);
 DenseVolume readNiftiDense(const std::string& path);
 DenseVolume readNrrdDense(const std::string& path);
 DenseVolume readMghDense(const std::string& path);  // FreeSurfer .mgh / .mgz
+DenseVolume readArrayDense(const VolumeArray& array);  // volume/volume_array.cpp
 
 bool endsWith(const std::string& s, const std::string& suffix);  // case-insensitive
 

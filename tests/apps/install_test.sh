@@ -2,7 +2,8 @@
 # Installs the build into a fresh prefix and runs the installed `lobe demo` from an unrelated
 # working directory: the binary must find its data relative to itself (apps/data_dir.h) and carry
 # no build-tree path. Then the README's paper scene from the installed assets (the scenes' relative
-# data paths must hold there), and the user guide installed beside it (README.md, docs/).
+# data paths must hold there), the user guide installed beside it (README.md, docs/), and the
+# Python module imported from the prefix.
 # Usage: install_test.sh CMAKE BUILD_DIR WORK_DIR
 set -euo pipefail
 cmake_bin=$1 build=$2 work=$3
@@ -26,4 +27,11 @@ test -s paper/rendering-01.png || { echo "the installed paper scene did not rend
 for f in README.md docs/models.md docs/architecture.md docs/scene-format.md docs/images/gallery.jpg; do
   test -s "$work/prefix/share/doc/lobe/$f" || { echo "not installed: share/doc/lobe/$f" >&2; exit 1; }
 done
+# The Python module, when it was built: importable from the prefix's Python path as docs/python.md
+# sets it, from this unrelated folder, by Debian's python3 (the one it was built for).
+if compgen -G "$build/python/lobe*.so" >/dev/null; then
+  site=$(/usr/bin/python3 -c 'import sys; print("lib/python%d.%d/dist-packages" % sys.version_info[:2])')
+  compgen -G "$work/prefix/$site/lobe*.so" >/dev/null || { echo "not installed: $site/lobe*.so" >&2; exit 1; }
+  PYTHONPATH="$work/prefix/$site" /usr/bin/python3 -c "import lobe, lobe.brdf; assert lobe.__file__.startswith('$work/prefix/'), lobe.__file__; lobe.brdf.models()"
+fi
 echo "install test: ok"

@@ -74,6 +74,44 @@ TEST(SceneFile, ErrorsNameTheKeyPath) {
     EXPECT_NE(badMethod.find("not one of: exact, mesh"), std::string::npos) << badMethod;
 }
 
+// "source": {"array": NAME}: resolved from the arrays given to parseScene (the Python module's);
+// in a file, or with a name not given, or beside a file key, an error at the key path.
+TEST(SceneFile, InMemoryArraySources) {
+    std::string text = validScene();
+    text.replace(text.find("\"path\": \"test_scene_file.cpp\""), 29, "\"array\": \"a1\", \"divide_by\": 2");
+    const std::string inFile = errorOf(text);
+    EXPECT_NE(inFile.find("scene.json: objects[0].source.array: arrays in memory are given through "
+                          "the Python module"),
+              std::string::npos)
+        << inFile;
+    auto array = std::make_shared<VolumeArray>();
+    array->name = "a1";
+    const SceneArrays arrays{{"a1", array}};
+    const SceneSpec s = parseScene(text, kBase, "scene.json", &arrays);
+    EXPECT_EQ(s.objects[0].source.array, array);
+    EXPECT_EQ(s.objects[0].source.path, "");
+    EXPECT_EQ(s.objects[0].source.divideBy, 2.0);
+    const SceneArrays others{{"a2", array}};
+    try {
+        parseScene(text, kBase, "scene.json", &others);
+        ADD_FAILURE() << "an unknown array name was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("objects[0].source.array: no array named 'a1'"),
+                  std::string::npos)
+            << e.what();
+    }
+    std::string withDims = text;
+    withDims.replace(withDims.find("\"divide_by\""), 11, "\"dims\": [1, 2, 3], \"divide_by\"");
+    try {
+        parseScene(withDims, kBase, "scene.json", &arrays);
+        ADD_FAILURE() << "dims beside array was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("objects[0].source.dims: not with \"array\""),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(SceneFile, MissingFileUnknownModelAndSyntaxErrors) {
     std::string text = validScene();
     text.replace(text.find("test_scene_file.cpp"), 19, "no_such_volume.nii");
