@@ -543,7 +543,7 @@ py::dict separation(const PyScene& scene, const RenderArgs& args, double contras
     Film film(1, 1);
     AovImage aovs;
     renderFilm(scene, spec, request, args, progress, film, aovs);
-    const SeparationLayers layers = separationLayers(spec, film, aovs);
+    const SeparationLayers layers = separationLayers(spec, aovs);
     const SeparationReport report = measureSeparation(layers, contrast);
     py::dict out;
     out["score"] = report.score;
@@ -555,6 +555,11 @@ py::dict separation(const PyScene& scene, const RenderArgs& args, double contras
         o["visible_share"] = v.visibleShare;
         o["specular_share"] = v.specularShare;
         o["mean_specular_contrast"] = v.meanSpecularContrast;
+        o["visibility"] = v.visibility;
+        o["veiling"] = v.veiling;
+        o["identity"] = v.identity;
+        o["chroma"] = v.chroma;
+        o["quality"] = v.quality;
         objects.append(o);
     }
     out["objects"] = objects;
@@ -563,12 +568,14 @@ py::dict separation(const PyScene& scene, const RenderArgs& args, double contras
         py::dict d;
         d["a"] = layers.objects[size_t(p.a)];
         d["b"] = layers.objects[size_t(p.b)];
-        d["score"] = p.metric.eSum;
+        d["highlight"] = p.metric.eSum;
+        d["score"] = p.score;
         d["area_a"] = p.metric.areaA;
         d["area_b"] = p.metric.areaB;
         pairs.append(d);
     }
     out["pairs"] = pairs;
+    out["highlight"] = report.highlight;
     return out;
 }
 
