@@ -5,6 +5,7 @@
 #include "render/scene_description.h"
 
 #include <string>
+#include <vector>
 
 namespace CLI {
 class App;
@@ -19,6 +20,10 @@ struct SceneOverrides {
     long long seed = -1;
     bool preview = false;
     bool preIntegrated = false;  // --pre-integrated: on for every scene
+    // --clip plane:x,y,z,nx,ny,nz | box:x0,y0,z0,x1,y1,z1 [:invert] [:cap], repeatable: added
+    // to every scene's clip shapes (core/clip.h).
+    std::vector<std::string> clip;
+    std::string shadows;  // --shadows off|exact|cached: "" keeps the scenes'
 
     // Adds the options to a subcommand.
     void addOptions(CLI::App& sub);

@@ -11,6 +11,7 @@
 #include "volume/volume.h"
 #include "volume/volume_marcher.h"
 
+#include <openvdb/tools/Interpolation.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -224,6 +225,8 @@ std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache
         const openvdb::FloatGrid::Ptr grid =
             placeInWorld(*cache.get(object.source), object.transform, context);
         growByGridBox(*grid, boxes[i].lo, boxes[i].hi);
+        clipBox(spec.clip, boxes[i].lo, boxes[i].hi);
+        clipBox(object.clip, boxes[i].lo, boxes[i].hi);
     }
     return boxes;
 }
@@ -264,6 +267,10 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
         openvdb::FloatGrid::Ptr grid = placeInWorld(*volume, object.transform, context);
         growByGridBox(*grid, objectBoxes[i].lo, objectBoxes[i].hi);
         growByGridBox(*grid, lo, hi);
+        // camera.fit frames what the clips keep.
+        std::vector<ClipShape> clip = spec_.clip;
+        clip.insert(clip.end(), object.clip.begin(), object.clip.end());
+        clipBox(clip, objectBoxes[i].lo, objectBoxes[i].hi);
         const TangentAxes tangent = worldAxes(object);
         if (object.kind == ObjectSpec::Kind::IsoSurface) {
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
@@ -280,7 +287,17 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             }
             const int id = surfaces_->add(geometry);
             if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
-            surfaceObjects_.push_back({&object, int(i), tangent});
+            SceneSurface so;
+            so.spec = &object;
+            so.objectIndex = int(i);
+            so.tangent = tangent;
+            so.clip = clip;
+            for (const ClipShape& c : clip) so.caps = so.caps || c.cap;
+            so.field = grid;
+            so.iso = object.iso;
+            so.insideBelow = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
+            surfaces_->setClip(id, clip);
+            surfaceObjects_.push_back(std::move(so));
         } else {
             DvrSettings settings;
             settings.reconstruction = object.reconstruction == "bspline"
@@ -291,6 +308,7 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             settings.stepVoxels = spec_.volumeStepVoxels;
             settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
             settings.preIntegrated = spec_.volumePreIntegrated;
+            settings.clip = clip;
             SceneVolume vo;
             vo.spec = &object;
             vo.objectIndex = int(i);
@@ -365,6 +383,13 @@ void Scene::placeView() {
         backdrop_ = Backdrop(b, spec_.cameraPosition + forward * depth, forward, camera_.right(),
                              camera_.up(), half * 1.05);
     }
+}
+
+bool SceneSurface::inside(const Vec3& x) const {
+    if (!field) return false;
+    const openvdb::Vec3d u = field->transform().worldToIndex(openvdb::Vec3d(x.x, x.y, x.z));
+    const double v = openvdb::tools::BoxSampler::sample(field->tree(), u);
+    return insideBelow ? v < iso : v > iso;
 }
 
 Scene::~Scene() = default;

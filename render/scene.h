@@ -34,6 +34,16 @@ struct SceneSurface {
     const ObjectSpec* spec = nullptr;
     int objectIndex = 0;  // in SceneSpec::objects
     TangentAxes tangent;
+    // Clipping (core/clip.h): the scene's and the object's shapes; with caps, the field whose
+    // inside (value > iso; a level-set source's value < 0) the cut faces close.
+    std::vector<ClipShape> clip;
+    bool caps = false;
+    openvdb::FloatGrid::ConstPtr field;
+    double iso = 0.0;
+    bool insideBelow = false;
+    // Whether the solid bounded by the surface holds world point x (the field reconstructed
+    // trilinearly, as the exact iso-surface interpolates it).
+    bool inside(const Vec3& x) const;
 };
 
 struct SceneVolume {
@@ -90,6 +100,8 @@ public:
     const SurfaceScene* surfaces() const { return surfaces_.get(); }  // null: no surface
     const std::vector<SceneSurface>& surfaceObjects() const { return surfaceObjects_; }  // by ID
     const std::vector<SceneVolume>& volumeObjects() const { return volumeObjects_; }
+    // Each object's world box as its clips cut it (render/framing.h), by SceneSpec::objects.
+    const std::vector<WorldBox>& objectBoxes() const { return objectBoxes_; }
 
 private:
     // camera_ and backdrop_ from spec_'s resolved view and the objects' world box.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/camera.h"
+#include "core/clip.h"
 #include "core/light.h"
 #include "materials/material.h"
 #include "render/background.h"
@@ -78,6 +79,10 @@ struct ObjectSpec {
     std::string transferName;             // "scene.json: objects[0].transfer_function"
     std::string reconstruction = "trilinear";  // trilinear | bspline
     std::string gradient = "central";          // central | bspline
+    // Clip shapes of this object (core/clip.h), on top of the scene's.
+    std::vector<ClipShape> clip;
+    // Whether the object shadows the lights when SceneSpec::shadows is on.
+    bool castsShadows = true;
 };
 
 struct BackdropSpec {
@@ -159,6 +164,13 @@ struct SceneSpec {
     // Volume segments classified by pre-integration (volume/pre_integration.h): the same
     // accuracy at several times the step on narrow transfer functions.
     bool volumePreIntegrated = false;
+    // Clip shapes of every object (core/clip.h; docs/scene-format.md, "Clip").
+    std::vector<ClipShape> clip;
+    // Shadows (render/integrator.h, "Shadows"): "off", "exact" (a shadow ray per light from
+    // every shaded point) or "cached" (volume samples read a per-light transmittance cache of
+    // nodes shadowCacheVoxels voxels apart; surfaces stay exact).
+    std::string shadows = "off";
+    double shadowCacheVoxels = 2.0;
     std::vector<ObjectSpec> objects;
 };
 

@@ -71,11 +71,13 @@
 #include <string>
 #include <vector>
 
+#include "core/clip.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 #include "volume/pre_integration.h"
 #include "volume/reconstruction.h"
 #include "volume/transfer_function.h"
+#include "volume/volume_mask.h"
 
 namespace lobe {
 
@@ -89,6 +91,14 @@ struct DvrSettings {
     // Segments between samples classified by pre-integration (volume/pre_integration.h, header
     // "Pre-integration") instead of the transfer function at the sample.
     bool preIntegrated = false;
+    // Clip shapes (core/clip.h): only the ray's kept intervals are sampled. The lattice starts
+    // at the first kept point (t_in above is then the later of the domain entry and the first
+    // interval's start) and jumps over the gaps between intervals, so empty-space skipping
+    // works inside them as before.
+    std::vector<ClipShape> clip;
+    // A mask (volume/volume_mask.h): samples where it does not keep the object are transparent.
+    // Tested only for samples the transfer function makes visible, so skipping is unchanged.
+    std::shared_ptr<const VolumeMask> mask;
 };
 
 struct VolumeSample {
@@ -222,6 +232,8 @@ private:
     bool prevSkippable_ = false;  // the last opacity corrected, and its result
     long long k_ = 0;
     bool active_ = false;
+    ClipIntervals clip_;  // kept intervals of the ray (DvrSettings::clip), when clipped
+    int clipIndex_ = 0;
     long long evaluated_ = 0, skipped_ = 0;
 };
 
