@@ -272,6 +272,16 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
         clip.insert(clip.end(), object.clip.begin(), object.clip.end());
         clipBox(clip, objectBoxes[i].lo, objectBoxes[i].hi);
         const TangentAxes tangent = worldAxes(object);
+        std::shared_ptr<const VolumeMask> mask;
+        if (object.mask.enabled) {
+            try {
+                mask = std::make_shared<const VolumeMask>(
+                    placeInWorld(*volumes.get(object.mask.source), object.transform, context),
+                    object.mask.iso, object.mask.invert, object.mask.labels);
+            } catch (const Error& e) {
+                throw Error(context + ": mask: " + e.what());
+            }
+        }
         if (object.kind == ObjectSpec::Kind::IsoSurface) {
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
             std::shared_ptr<const SurfaceGeometry> geometry;
@@ -297,6 +307,10 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             so.iso = object.iso;
             so.insideBelow = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
             surfaces_->setClip(id, clip);
+            if (mask) {
+                so.mask = mask;
+                surfaces_->setMask(id, [mask](const Vec3& x) { return mask->keeps(x); });
+            }
             surfaceObjects_.push_back(std::move(so));
         } else {
             DvrSettings settings;
@@ -309,6 +323,7 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
             settings.preIntegrated = spec_.volumePreIntegrated;
             settings.clip = clip;
+            settings.mask = mask;
             SceneVolume vo;
             vo.spec = &object;
             vo.objectIndex = int(i);
@@ -389,7 +404,7 @@ bool SceneSurface::inside(const Vec3& x) const {
     if (!field) return false;
     const openvdb::Vec3d u = field->transform().worldToIndex(openvdb::Vec3d(x.x, x.y, x.z));
     const double v = openvdb::tools::BoxSampler::sample(field->tree(), u);
-    return insideBelow ? v < iso : v > iso;
+    return (insideBelow ? v < iso : v > iso) && (!mask || mask->keeps(x));
 }
 
 Scene::~Scene() = default;

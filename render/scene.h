@@ -11,6 +11,7 @@
 #include "render/framing.h"
 #include "render/scene_description.h"
 #include "volume/volume.h"
+#include "volume/volume_mask.h"
 
 #include <map>
 #include <memory>
@@ -41,6 +42,7 @@ struct SceneSurface {
     openvdb::FloatGrid::ConstPtr field;
     double iso = 0.0;
     bool insideBelow = false;
+    std::shared_ptr<const VolumeMask> mask;  // caps only where the mask keeps the object
     // Whether the solid bounded by the surface holds world point x (the field reconstructed
     // trilinearly, as the exact iso-surface interpolates it).
     bool inside(const Vec3& x) const;

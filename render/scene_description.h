@@ -41,6 +41,18 @@ struct ObjectTransform {
     std::array<double, 3> translation{0, 0, 0};
 };
 
+// "mask": an object exists only where another volume is inside (value > iso) or, inverted, outside
+// (volume/volume_mask.h; docs/scene-format.md, "Mask").
+struct MaskSpec {
+    bool enabled = false;
+    VolumeSourceSpec source;  // placed with the object's transform
+    double iso = 0.5;
+    bool invert = false;
+    // Label sets ("labels": [...]): the hook for label sources. Not parsed here yet (the scene
+    // file refuses the key); non-empty keeps the points whose nearest voxel holds one of them.
+    std::vector<int> labels;
+};
+
 struct ObjectSpec {
     enum class Kind { IsoSurface, Volume };
     std::string name;
@@ -83,6 +95,7 @@ struct ObjectSpec {
     std::vector<ClipShape> clip;
     // Whether the object shadows the lights when SceneSpec::shadows is on.
     bool castsShadows = true;
+    MaskSpec mask;
 };
 
 struct BackdropSpec {

@@ -432,6 +432,18 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     }
     if (r.has("clip")) o.clip = readClip(r, "clip");
     o.castsShadows = r.boolean("casts_shadows", true);
+    if (r.has("mask")) {
+        // {"source": {...}, "iso": v, "invert": bool}. "labels" (label sets) is the hook another
+        // change fills (MaskSpec::labels); until then it is an unknown key.
+        Reader m = r.child("mask");
+        o.mask.enabled = true;
+        if (!m.has("source")) m.fail(m.at("source"), "missing (the mask's volume, as an object's source)");
+        o.mask.source = readSource(m.child("source"), baseDir);
+        if (!m.has("iso")) m.fail(m.at("iso"), "missing (the object exists where the mask's value is above it)");
+        o.mask.iso = m.number("iso", 0.5, -1e12, 1e12);
+        o.mask.invert = m.boolean("invert", false);
+        m.finish();
+    }
     r.finish();
     return o;
 }
