@@ -59,7 +59,7 @@ void Integrator::resetCaches() {
 }
 
 double Integrator::lightTransmittance(const Vec3& from, const PointLight& light, double jitter,
-                                      TraceState& st, double tMin) const {
+                                      TraceState& st, double tMin, double stepScale) const {
     const Vec3 toLight = light.position - from;
     const double d = toLight.length();
     if (!(d > tMin)) return 1.0;
@@ -88,7 +88,7 @@ double Integrator::lightTransmittance(const Vec3& from, const PointLight& light,
         if (!volumes[i].spec->castsShadows) continue;
         VolumeRaySampler& sampler = st.shadowSamplers[i];
         const double xi = jitter + 0.6180339887498949 * double(i);
-        if (!sampler.begin(r, xi - std::floor(xi))) continue;
+        if (!sampler.begin(r, xi - std::floor(xi), stepScale)) continue;
         VolumeSample s;
         while (sampler.next(d, s, false)) {
             T *= 1.0 - s.alpha;
@@ -104,9 +104,10 @@ const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
     if (spec.shadows == "off" || spec.lights.empty()) return nullptr;
     st.shadow.resize(spec.lights.size());
     if (volumeSample && cache_) {
+        const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
         for (size_t l = 0; l < spec.lights.size(); ++l)
             st.shadow[l] = cache_->lookup(int(l), p, [&](const Vec3& node) {
-                return lightTransmittance(node, spec.lights[l], 0.5, st);
+                return lightTransmittance(node, spec.lights[l], 0.5, st, 0.0, scale);
             });
         return st.shadow.data();
     }

@@ -184,6 +184,7 @@ struct SceneSpec {
     // nodes shadowCacheVoxels voxels apart; surfaces stay exact).
     std::string shadows = "off";
     double shadowCacheVoxels = 2.0;
+    double shadowCacheStepVoxels = 0.5;  // the node rays' step (the scene's if that is coarser)
     std::vector<ObjectSpec> objects;
 };
 

@@ -264,7 +264,7 @@ double DvrVolume::transparentBrickFraction() const {
 VolumeRaySampler::VolumeRaySampler(const DvrVolume& volume)
     : vol_(&volume), recon_(volume.grid(), volume.dense()) {}
 
-bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
+bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     active_ = false;
     k_ = 0;
     tEnter_ = 0.0;
@@ -306,7 +306,8 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     if (!(t0 <= t1) || !std::isfinite(t0) || !std::isfinite(t1)) return false;
     tEnter_ = t0;
     tExit_ = t1;
-    dt_ = vol_->settings_.stepVoxels / idxSpeed;
+    stepVoxels_ = vol_->settings_.stepVoxels * (stepScale >= 1.0 ? stepScale : 1.0);
+    dt_ = stepVoxels_ / idxSpeed;
     jitter_ = std::min(std::max(jitter, 0.0), std::nextafter(1.0, 0.0));
     // Opacity exponent: the world length of one step in reference voxel lengths (header).
     stepRefLengths_ = dt_ * ray.d.length() / g.referenceVoxelLength();
@@ -320,7 +321,7 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
-                     vol_->settings_.stepVoxels < kRayPolynomialStep;
+                     stepVoxels_ < kRayPolynomialStep;
     kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
     active_ = true;
     return true;
@@ -398,7 +399,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                 // lattice points along a ray: 20 at the paper's step). At coarse steps a cell
                 // holds one or two points, and one step is cheaper than computing the jump.
                 if (!closing) {
-                    if (set.stepVoxels < kCellJumpStep) {
+                    if (stepVoxels_ < kCellJumpStep) {
                         jumpPastBox(cell, 1);
                     } else {
                         ++skipped_;

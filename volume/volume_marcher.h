@@ -174,7 +174,9 @@ public:
 
     // Starts a ray with jitter ξ ∈ [0, 1). Returns false when the ray misses the domain (then
     // next() returns false at once).
-    bool begin(const Ray& ray, double jitter);
+    // stepScale ≥ 1 multiplies the volume's step for this ray (shadow rays of the shadow cache,
+    // render/shadow_cache.h; the opacity correction follows the step, as it does for any step).
+    bool begin(const Ray& ray, double jitter, double stepScale = 1.0);
 
     // The next sample with non-zero opacity and t < tEnd, in lattice order. Returns false when
     // there is none before tEnd; the state then stays at the first lattice point ≥ tEnd (or
@@ -220,6 +222,7 @@ private:
     GridReconstructor recon_;
     Vec3 oIdx_{0.0}, dIdx_{0.0};
     double tEnter_ = 0.0, tExit_ = -1.0, dt_ = 1.0, jitter_ = 0.0;
+    double stepVoxels_ = 0.05;  // this ray's step in voxels (the volume's × stepScale)
     bool rayPolynomial_ = false;   // B-spline values from the ray's polynomial per cell
     double stepRefLengths_ = 1.0;  // world length of one step / ℓ_ref: the opacity exponent
     double invDIdx_[3] = {0, 0, 0}, invDt_ = 1.0;  // 1 / dIdx_ (0 where dIdx_ is 0), 1 / dt_
