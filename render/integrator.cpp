@@ -117,8 +117,13 @@ const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
                                      : 1e-5 * (1.0 + std::max(std::abs(p.x),
                                                               std::max(std::abs(p.y), std::abs(p.z))));
     const double jitter = rng.uniform();
+    // "cached" marches the volumes on surfaces' shadow rays at the cache's step too (the
+    // surfaces themselves stay exact): on rendering 1 the skull's shadow rays through five
+    // volumes at the camera's 0.05-voxel step were most of the cached mode's cost.
+    const double scale =
+        cache_ ? std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels) : 1.0;
     for (size_t l = 0; l < spec.lights.size(); ++l)
-        st.shadow[l] = lightTransmittance(p, spec.lights[l], jitter, st, tMin);
+        st.shadow[l] = lightTransmittance(p, spec.lights[l], jitter, st, tMin, scale);
     return st.shadow.data();
 }
 

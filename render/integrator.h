@@ -17,8 +17,8 @@
 // scene's termination threshold. The shadow ray's lattice offset is drawn from the pixel
 // sample's random stream, so images are the same for any thread count. With "cached", volume
 // samples read a per-light cache of such transmittances instead (render/shadow_cache.h), whose
-// node rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if coarser). Caps
-// cast no shadow.
+// node rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if coarser), as do
+// the volumes on surfaces' shadow rays (the surfaces stay exact). Caps cast no shadow.
 #pragma once
 
 #include "core/light.h"
