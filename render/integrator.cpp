@@ -59,7 +59,8 @@ void Integrator::resetCaches() {
 }
 
 double Integrator::lightTransmittance(const Vec3& from, const PointLight& light, double jitter,
-                                      TraceState& st, double tMin, double stepScale) const {
+                                      TraceState& st, double tMin, double stepScale,
+                                      bool withSurfaces, bool withVolumes) const {
     const Vec3 toLight = light.position - from;
     const double d = toLight.length();
     if (!(d > tMin)) return 1.0;
@@ -70,7 +71,8 @@ double Integrator::lightTransmittance(const Vec3& from, const PointLight& light,
     r.tMax = d;
     const double cutoff = scene_.spec().terminationTransmittance;
     double T = 1.0;
-    if (const SurfaceScene* surfaces = scene_.surfaces()) {
+    const SurfaceScene* surfaces = withSurfaces ? scene_.surfaces() : nullptr;
+    if (surfaces) {
         Ray seg = r;
         for (int h = 0; h < kMaxSurfaceHits; ++h) {
             const std::optional<SurfaceHit> hit = surfaces->intersect(seg);
@@ -84,7 +86,7 @@ double Integrator::lightTransmittance(const Vec3& from, const PointLight& light,
         }
     }
     const std::vector<SceneVolume>& volumes = scene_.volumeObjects();
-    for (size_t i = 0; i < volumes.size(); ++i) {
+    for (size_t i = 0; i < volumes.size() && withVolumes; ++i) {
         if (!volumes[i].spec->castsShadows) continue;
         VolumeRaySampler& sampler = st.shadowSamplers[i];
         const double xi = jitter + 0.6180339887498949 * double(i);
@@ -103,27 +105,29 @@ const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
     const SceneSpec& spec = scene_.spec();
     if (spec.shadows == "off" || spec.lights.empty()) return nullptr;
     st.shadow.resize(spec.lights.size());
-    if (volumeSample && cache_) {
-        const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
-        for (size_t l = 0; l < spec.lights.size(); ++l)
-            st.shadow[l] = cache_->lookup(int(l), p, [&](const Vec3& node) {
-                return lightTransmittance(node, spec.lights[l], 0.5, st, 0.0, scale);
-            });
-        return st.shadow.data();
-    }
     // Surfaces start their shadow rays a hair off the surface (relative to the coordinates'
     // size: the exact roots are ~1e-10 voxel accurate, Embree's float meshes ~1e-7 relative).
     const double tMin = volumeSample ? 0.0
                                      : 1e-5 * (1.0 + std::max(std::abs(p.x),
                                                               std::max(std::abs(p.y), std::abs(p.z))));
     const double jitter = rng.uniform();
-    // "cached" marches the volumes on surfaces' shadow rays at the cache's step too (the
-    // surfaces themselves stay exact): on rendering 1 the skull's shadow rays through five
-    // volumes at the camera's 0.05-voxel step were most of the cached mode's cost.
-    const double scale =
-        cache_ ? std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels) : 1.0;
+    if (cache_) {
+        // Surfaces exactly, volumes from the cache (header, "Shadows").
+        const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
+        for (size_t l = 0; l < spec.lights.size(); ++l) {
+            const PointLight& light = spec.lights[l];
+            double T = lightTransmittance(p, light, jitter, st, tMin, 1.0, true, false);
+            Vec3 q;
+            if (T > 0.0 && cache_->entry(p, light.position, q))
+                T *= cache_->lookup(int(l), q, [&](const Vec3& node) {
+                    return lightTransmittance(node, light, 0.5, st, 0.0, scale, false, true);
+                });
+            st.shadow[l] = T;
+        }
+        return st.shadow.data();
+    }
     for (size_t l = 0; l < spec.lights.size(); ++l)
-        st.shadow[l] = lightTransmittance(p, spec.lights[l], jitter, st, tMin, scale);
+        st.shadow[l] = lightTransmittance(p, spec.lights[l], jitter, st, tMin);
     return st.shadow.data();
 }
 

@@ -16,9 +16,11 @@
 // camera rays; the discrete form of T = exp(−∫σ), Max 1995 eq. 3), stopped at 0 once below the
 // scene's termination threshold. The shadow ray's lattice offset is drawn from the pixel
 // sample's random stream, so images are the same for any thread count. With "cached", volume
-// samples read a per-light cache of such transmittances instead (render/shadow_cache.h), whose
-// node rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if coarser), as do
-// the volumes on surfaces' shadow rays (the surfaces stay exact). Caps cast no shadow.
+// shaded points (surface hits and volume samples alike) take the surfaces' part exactly (an
+// Embree shadow ray) and the volumes' part from a per-light cache (render/shadow_cache.h) at the
+// point, or, outside the volumes' box, where the shadow ray enters it (nothing absorbs before);
+// the cache's node rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if
+// coarser). Caps cast no shadow.
 #pragma once
 
 #include "core/light.h"
@@ -111,9 +113,11 @@ public:
 
     // Transmittance from `from` to `light` through the casting objects (header, "Shadows"),
     // the shadow ray starting at distance tMin; `jitter` ∈ [0, 1) places the volumes' lattices.
-    // stepScale ≥ 1 multiplies the volumes' steps (the cache's node rays).
+    // stepScale ≥ 1 multiplies the volumes' steps (the cache's node rays); `surfaces` and
+    // `volumes` choose what is counted.
     double lightTransmittance(const Vec3& from, const PointLight& light, double jitter,
-                              TraceState& state, double tMin = 0.0, double stepScale = 1.0) const;
+                              TraceState& state, double tMin = 0.0, double stepScale = 1.0,
+                              bool surfaces = true, bool volumes = true) const;
     const ShadowCache* shadowCache() const { return cache_.get(); }
 
 private:

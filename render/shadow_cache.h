@@ -1,7 +1,8 @@
-// A per-light transmittance cache for shadowed volume samples (SceneSpec::shadows = "cached";
-// render/integrator.h, "Shadows"): the transmittance from the nodes of a regular world grid to
-// each light, each node computed once by an exact shadow ray (Integrator::lightTransmittance,
-// with a fixed lattice offset) and interpolated trilinearly between the 8 nodes around a sample
+// A per-light transmittance cache for shadows through volumes (SceneSpec::shadows = "cached";
+// render/integrator.h, "Shadows"): the transmittance through the volumes from the nodes of a
+// regular world grid over the volumes' boxes to each light, each node computed once by a shadow
+// ray (Integrator::lightTransmittance, volumes only, a fixed lattice offset) and interpolated
+// trilinearly between the 8 nodes around a point
 // — the "light volume" / deep-shadow idea of volume rendering (Behrens & Ratering 1998, "Adding
 // shadows to a texture-based volume renderer"; Kniss et al. 2003 compute it per light slice).
 // Nodes are computed lazily, the first time a sample needs them; a node's value depends only on
@@ -50,6 +51,32 @@ public:
             sum += w * v;
         }
         return sum;
+    }
+
+    // The point where the segment from p to `to` enters the cache's box (p itself when inside);
+    // false when the segment misses the box. Transmittance through what lies only inside the
+    // box is the same from p as from that point.
+    bool entry(const Vec3& p, const Vec3& to, Vec3& q) const {
+        const Vec3 hi = lo_ + Vec3(n_[0] - 1, n_[1] - 1, n_[2] - 1) * spacing_;
+        if (p.x >= lo_.x && p.y >= lo_.y && p.z >= lo_.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z) {
+            q = p;
+            return true;
+        }
+        const Vec3 d = to - p;
+        double t0 = 0.0, t1 = 1.0;  // the slab method (Kay & Kajiya 1986) on the segment
+        for (int a = 0; a < 3; ++a) {
+            if (d[a] == 0.0) {
+                if (p[a] < lo_[a] || p[a] > hi[a]) return false;
+                continue;
+            }
+            double ta = (lo_[a] - p[a]) / d[a], tb = (hi[a] - p[a]) / d[a];
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta);
+            t1 = std::min(t1, tb);
+        }
+        if (!(t0 <= t1)) return false;
+        q = p + d * t0;
+        return true;
     }
 
     double spacing() const { return spacing_; }
