@@ -37,6 +37,7 @@ Integrator::~Integrator() = default;
 
 void Integrator::resetCaches() {
     cache_.reset();
+    volumeCache_.reset();
     const SceneSpec& spec = scene_.spec();
     if (spec.shadows != "cached" || scene_.volumeObjects().empty() || spec.lights.empty()) return;
     // Over the volumes' world boxes (as clipped), nodes shadowCacheVoxels of the finest
@@ -56,6 +57,8 @@ void Integrator::resetCaches() {
     if (!(lo.x <= hi.x) || !std::isfinite(voxel)) return;
     cache_ = std::make_unique<ShadowCache>(lo, hi, voxel * spec.shadowCacheVoxels,
                                            int(spec.lights.size()));
+    volumeCache_ = std::make_unique<ShadowCache>(lo, hi, voxel * spec.shadowCacheVoxels,
+                                                 int(spec.lights.size()));
 }
 
 double Integrator::lightTransmittance(const Vec3& from, const PointLight& light, double jitter,
@@ -112,14 +115,21 @@ const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
                                                               std::max(std::abs(p.y), std::abs(p.z))));
     const double jitter = rng.uniform();
     if (cache_) {
-        // Surfaces exactly, volumes from the cache (header, "Shadows").
         const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
         for (size_t l = 0; l < spec.lights.size(); ++l) {
             const PointLight& light = spec.lights[l];
+            if (volumeSample) {
+                // Volume samples: surfaces and volumes from the cache (header, "Shadows").
+                st.shadow[l] = cache_->lookup(int(l), p, [&](const Vec3& node) {
+                    return lightTransmittance(node, light, 0.5, st, 0.0, scale, true, true);
+                });
+                continue;
+            }
+            // Surface hits: surfaces exactly, volumes from their own cache.
             double T = lightTransmittance(p, light, jitter, st, tMin, 1.0, true, false);
             Vec3 q;
-            if (T > 0.0 && cache_->entry(p, light.position, q))
-                T *= cache_->lookup(int(l), q, [&](const Vec3& node) {
+            if (T > 0.0 && volumeCache_->entry(p, light.position, q))
+                T *= volumeCache_->lookup(int(l), q, [&](const Vec3& node) {
                     return lightTransmittance(node, light, 0.5, st, 0.0, scale, false, true);
                 });
             st.shadow[l] = T;

@@ -16,11 +16,12 @@
 // camera rays; the discrete form of T = exp(−∫σ), Max 1995 eq. 3), stopped at 0 once below the
 // scene's termination threshold. The shadow ray's lattice offset is drawn from the pixel
 // sample's random stream, so images are the same for any thread count. With "cached", volume
-// shaded points (surface hits and volume samples alike) take the surfaces' part exactly (an
-// Embree shadow ray) and the volumes' part from a per-light cache (render/shadow_cache.h) at the
-// point, or, outside the volumes' box, where the shadow ray enters it (nothing absorbs before);
-// the cache's node rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if
-// coarser). Caps cast no shadow.
+// volume samples read the whole transmittance from a per-light cache (render/shadow_cache.h),
+// while surface hits take the surfaces' part exactly (an Embree shadow ray, so their shadows stay
+// sharp) and the volumes' part from a second cache of the volumes alone, at the point or, outside
+// the volumes' box, where the shadow ray enters it (nothing absorbs before). The caches' node
+// rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if coarser). Caps cast no
+// shadow.
 #pragma once
 
 #include "core/light.h"
@@ -126,7 +127,8 @@ private:
     const double* shadowsAt(const Vec3& p, bool volumeSample, Rng& rng, TraceState& state) const;
 
     const Scene& scene_;
-    std::unique_ptr<ShadowCache> cache_;
+    std::unique_ptr<ShadowCache> cache_;        // surfaces and volumes, for volume samples
+    std::unique_ptr<ShadowCache> volumeCache_;  // volumes only, for surface hits
 };
 
 }  // namespace lobe
