@@ -39,6 +39,7 @@ void Integrator::resetCaches() {
     cache_.reset();
     volumeCache_.reset();
     const SceneSpec& spec = scene_.spec();
+    shadowsOn_ = spec.shadows != "off" && !spec.lights.empty();
     if (spec.shadows != "cached" || scene_.volumeObjects().empty() || spec.lights.empty()) return;
     // Over the volumes' world boxes (as clipped), nodes shadowCacheVoxels of the finest
     // volume's voxels apart.
@@ -106,7 +107,7 @@ double Integrator::lightTransmittance(const Vec3& from, const PointLight& light,
 const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
                                     TraceState& st) const {
     const SceneSpec& spec = scene_.spec();
-    if (spec.shadows == "off" || spec.lights.empty()) return nullptr;
+    if (!shadowsOn_) return nullptr;
     st.shadow.resize(spec.lights.size());
     // Surfaces start their shadow rays a hair off the surface (relative to the coordinates'
     // size: the exact roots are ~1e-10 voxel accurate, Embree's float meshes ~1e-7 relative).

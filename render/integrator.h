@@ -129,6 +129,7 @@ private:
     const Scene& scene_;
     std::unique_ptr<ShadowCache> cache_;        // surfaces and volumes, for volume samples
     std::unique_ptr<ShadowCache> volumeCache_;  // volumes only, for surface hits
+    bool shadowsOn_ = false;
 };
 
 }  // namespace lobe
