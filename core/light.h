@@ -1,8 +1,9 @@
 // Point ("omni") light of intensity I (W/sr per band): irradiance at distance d is I/d² · cos θ.
 // And the one light loop of Lobe: every place that lights a point — surface hits and volume
 // samples (render/shading.h), the backdrop, the BRDF gallery, the flux-overlap lattices — walks
-// the lights through forEachLight or forEachLightInFrame. No shadows: the paper's renderings
-// have none (docs/paper-scene.md).
+// the lights through forEachLight or forEachLightInFrame. The paper's renderings have no shadows
+// (docs/paper-scene.md); optional shadows multiply each light's term by the transmittance
+// towards it (render/shading.h, ShadingPoint::shadow; render/integrator.h, "Shadows").
 #pragma once
 
 #include "core/frame.h"

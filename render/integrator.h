@@ -8,16 +8,34 @@
 // below the scene's termination threshold or the ray reaches the backdrop. Every surface hit and
 // every volume sample is lit with its own object's material (render/shading.h); shading is
 // two-sided, since a ray passing through a translucent shell sees its inner side.
+//
+// Shadows (SceneSpec::shadows). Each light's irradiance at a shaded point is multiplied by the
+// transmittance from the point to the light (ShadingPoint::shadow): the product of (1 − opacity)
+// over the casting surfaces' crossings and of (1 − α) over the casting volumes' samples on the
+// shadow ray (the same marcher, step, opacity correction, clipping and empty-space skipping as
+// camera rays; the discrete form of T = exp(−∫σ), Max 1995 eq. 3), stopped at 0 once below the
+// scene's termination threshold. The shadow ray's lattice offset is drawn from the pixel
+// sample's random stream, so images are the same for any thread count. With "cached", volume
+// volume samples read the whole transmittance from a per-light cache (render/shadow_cache.h),
+// while surface hits take the surfaces' part exactly (an Embree shadow ray, so their shadows stay
+// sharp) and the volumes' part from a second cache of the volumes alone, at the point or, outside
+// the volumes' box, where the shadow ray enters it (nothing absorbs before). The caches' node
+// rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if coarser). Caps cast no
+// shadow.
 #pragma once
 
+#include "core/light.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 #include "render/render_cost.h"
 #include "volume/volume_marcher.h"
 
+#include <memory>
 #include <vector>
 
 namespace lobe {
+
+class ShadowCache;
 
 class Rng;
 class Scene;
@@ -37,6 +55,13 @@ struct RenderStats {
     RenderStats& operator+=(const RenderStats& o);
 };
 
+// A cut face crossed by a camera ray (render/integrator.cpp, "Caps").
+struct CapHit {
+    double t = 0.0;
+    int object = 0;  // surface object ID
+    Vec3 normal{0.0};
+};
+
 // Per-thread marching state: one sampler per volume object (samplers hold OpenVDB accessors and
 // must not be shared between threads) and the pending sample of each.
 struct TraceState {
@@ -44,6 +69,9 @@ struct TraceState {
     std::vector<VolumeSample> pending;
     std::vector<char> hasPending;
     CostCounters cost;  // counted and timed only when enabled (render/render_cost.h)
+    std::vector<CapHit> caps;
+    std::vector<VolumeRaySampler> shadowSamplers;  // shadow rays' own samplers, per volume
+    std::vector<double> shadow;                    // per light: the transmittance of a point
 };
 
 struct ShadingPoint;
@@ -72,7 +100,10 @@ public:
 
 class Integrator {
 public:
-    explicit Integrator(const Scene& scene) : scene_(scene) {}
+    explicit Integrator(const Scene& scene);
+    ~Integrator();
+    // Forgets cached shadows (after the scene's lights moved: Scene::setView).
+    void resetCaches();
 
     TraceState newState() const;
     // Radiance along `ray`; `jitter` ∈ [0,1) places the volumes' sample lattices, `rng` drives
@@ -81,8 +112,24 @@ public:
     Spectrum trace(const Ray& ray, double jitter, Rng& rng, TraceState& state, RenderStats& stats,
                    EventSink* sink = nullptr) const;
 
+    // Transmittance from `from` to `light` through the casting objects (header, "Shadows"),
+    // the shadow ray starting at distance tMin; `jitter` ∈ [0, 1) places the volumes' lattices.
+    // stepScale ≥ 1 multiplies the volumes' steps (the cache's node rays); `surfaces` and
+    // `volumes` choose what is counted.
+    double lightTransmittance(const Vec3& from, const PointLight& light, double jitter,
+                              TraceState& state, double tMin = 0.0, double stepScale = 1.0,
+                              bool surfaces = true, bool volumes = true) const;
+    const ShadowCache* shadowCache() const { return cache_.get(); }
+
 private:
+    // Fills state.shadow for a point (exact, or from the cache for volume samples); null when
+    // the scene has no shadows.
+    const double* shadowsAt(const Vec3& p, bool volumeSample, Rng& rng, TraceState& state) const;
+
     const Scene& scene_;
+    std::unique_ptr<ShadowCache> cache_;        // surfaces and volumes, for volume samples
+    std::unique_ptr<ShadowCache> volumeCache_;  // volumes only, for surface hits
+    bool shadowsOn_ = false;
 };
 
 }  // namespace lobe

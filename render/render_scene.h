@@ -43,7 +43,10 @@ public:
 
     const SceneSpec& spec() const { return scene_.spec(); }
     // Another view of the same scene (Scene::setView): an orbit's next frame.
-    void setView(const SceneSpec& frame) { scene_.setView(frame); }
+    void setView(const SceneSpec& frame) {
+        scene_.setView(frame);
+        integrator_.resetCaches();  // the lights moved with the camera
+    }
     const Scene& scene() const { return scene_; }
     // Renders at the spec's size, samples and seed. With `aov` and `aovs`, also the per-object
     // passes (render/aov.h) of the same samples; the beauty image is the same either way.

@@ -13,6 +13,7 @@
 #include "volume/volume.h"
 #include "volume/volume_marcher.h"
 
+#include <openvdb/tools/Interpolation.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -345,6 +346,8 @@ std::vector<WorldBox> objectWorldBoxes(const SceneSpec& spec, VolumeCache& cache
         const openvdb::FloatGrid::Ptr grid =
             placeInWorld(*cache.get(object.source), object.transform, context);
         growByObjectBox(object, *grid, boxes[i].lo, boxes[i].hi);
+        clipBox(spec.clip, boxes[i].lo, boxes[i].hi);
+        clipBox(object.clip, boxes[i].lo, boxes[i].hi);
     }
     return boxes;
 }
@@ -407,24 +410,52 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
         const ObjectSpec& object = spec_.objects[i];
         const std::string context = contextOf(i);
         const std::shared_ptr<const Volume> volume = volumes.get(object.source);
+        // camera.fit frames what the clips keep.
+        std::vector<ClipShape> clip = spec_.clip;
+        clip.insert(clip.end(), object.clip.begin(), object.clip.end());
         const TangentAxes tangent = worldAxes(object);
+        std::shared_ptr<const VolumeMask> mask;
+        if (object.mask.enabled) {
+            try {
+                mask = std::make_shared<const VolumeMask>(
+                    placeInWorld(*volumes.get(object.mask.source), object.transform, context),
+                    object.mask.iso, object.mask.invert, object.mask.labels);
+            } catch (const Error& e) {
+                throw Error(context + ": mask: " + e.what());
+            }
+        }
         if (object.kind == ObjectSpec::Kind::IsoSurface) {
             const openvdb::FloatGrid::Ptr placed = placeInWorld(*volume, object.transform, context);
             growByObjectBox(object, *placed, objectBoxes[i].lo, objectBoxes[i].hi);
             growByObjectBox(object, *placed, lo, hi);
+            clipBox(clip, objectBoxes[i].lo, objectBoxes[i].hi);
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
             const int id = surfaces_->add(geometries[i]);
             if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
-            SceneSurface so{&object, int(i), tangent, nullptr, GridGeometry()};
+            SceneSurface so;
+            so.spec = &object;
+            so.objectIndex = int(i);
+            so.tangent = tangent;
             if (object.isoNormals == "bspline") {
                 so.smoothGrid = grids[i];
                 so.smoothGeometry = GridGeometry(grids[i]->transform(), context);
             }
-            surfaceObjects_.push_back(so);
+            so.clip = clip;
+            for (const ClipShape& c : clip) so.caps = so.caps || c.cap;
+            so.field = grids[i];  // the surface's own field (a label's indicator for labels)
+            so.iso = object.iso;
+            so.insideBelow = grids[i]->getGridClass() == openvdb::GRID_LEVEL_SET;
+            surfaces_->setClip(id, clip);
+            if (mask) {
+                so.mask = mask;
+                surfaces_->setMask(id, [mask](const Vec3& x) { return mask->keeps(x); });
+            }
+            surfaceObjects_.push_back(std::move(so));
         } else {
             openvdb::FloatGrid::Ptr grid = objectGrid(object, *volume, context);
             growByObjectBox(object, *grid, objectBoxes[i].lo, objectBoxes[i].hi);
             growByObjectBox(object, *grid, lo, hi);
+            clipBox(clip, objectBoxes[i].lo, objectBoxes[i].hi);
             DvrSettings settings;
             settings.reconstruction = object.reconstruction == "bspline"
                                           ? Reconstruction::kCubicBSpline
@@ -436,6 +467,8 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             settings.stepVoxels = spec_.volumeStepVoxels;
             settings.emptySpaceSkipping = spec_.emptySpaceSkipping;
             settings.preIntegrated = spec_.volumePreIntegrated;
+            settings.clip = clip;
+            settings.mask = mask;
             SceneVolume vo;
             vo.spec = &object;
             vo.objectIndex = int(i);
@@ -510,6 +543,13 @@ void Scene::placeView() {
         backdrop_ = Backdrop(b, spec_.cameraPosition + forward * depth, forward, camera_.right(),
                              camera_.up(), half * 1.05);
     }
+}
+
+bool SceneSurface::inside(const Vec3& x) const {
+    if (!field) return false;
+    const openvdb::Vec3d u = field->transform().worldToIndex(openvdb::Vec3d(x.x, x.y, x.z));
+    const double v = openvdb::tools::BoxSampler::sample(field->tree(), u);
+    return (insideBelow ? v < iso : v > iso) && (!mask || mask->keeps(x));
 }
 
 Scene::~Scene() = default;

@@ -12,6 +12,7 @@
 #include "render/scene_description.h"
 #include "volume/reconstruction.h"
 #include "volume/volume.h"
+#include "volume/volume_mask.h"
 
 #include <map>
 #include <memory>
@@ -39,6 +40,17 @@ struct SceneSurface {
     // shading normal (smoothIsoNormal); null: the hit's own normal.
     openvdb::FloatGrid::ConstPtr smoothGrid;
     GridGeometry smoothGeometry;
+    // Clipping (core/clip.h): the scene's and the object's shapes; with caps, the field whose
+    // inside (value > iso; a level-set source's value < 0) the cut faces close.
+    std::vector<ClipShape> clip;
+    bool caps = false;
+    openvdb::FloatGrid::ConstPtr field;
+    double iso = 0.0;
+    bool insideBelow = false;
+    std::shared_ptr<const VolumeMask> mask;  // caps only where the mask keeps the object
+    // Whether the solid bounded by the surface holds world point x (the field reconstructed
+    // trilinearly, as the exact iso-surface interpolates it).
+    bool inside(const Vec3& x) const;
 };
 
 // The unit gradient of `grid`'s cubic B-spline at world `position`, turned to the side of
@@ -112,6 +124,8 @@ public:
     const SurfaceScene* surfaces() const { return surfaces_.get(); }  // null: no surface
     const std::vector<SceneSurface>& surfaceObjects() const { return surfaceObjects_; }  // by ID
     const std::vector<SceneVolume>& volumeObjects() const { return volumeObjects_; }
+    // Each object's world box as its clips cut it (render/framing.h), by SceneSpec::objects.
+    const std::vector<WorldBox>& objectBoxes() const { return objectBoxes_; }
 
 private:
     // camera_ and backdrop_ from spec_'s resolved view and the objects' world box.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/camera.h"
+#include "core/clip.h"
 #include "core/light.h"
 #include "materials/material.h"
 #include "render/background.h"
@@ -51,6 +52,18 @@ struct ObjectTransform {
     std::array<double, 3> translation{0, 0, 0};
 };
 
+// "mask": an object exists only where another volume is inside (value > iso) or, inverted, outside
+// (volume/volume_mask.h; docs/scene-format.md, "Mask").
+struct MaskSpec {
+    bool enabled = false;
+    VolumeSourceSpec source;  // placed with the object's transform
+    double iso = 0.5;
+    bool invert = false;
+    // Label sets ("labels": [...]): the hook for label sources. Not parsed here yet (the scene
+    // file refuses the key); non-empty keeps the points whose nearest voxel holds one of them.
+    std::vector<int> labels;
+};
+
 struct ObjectSpec {
     enum class Kind { IsoSurface, Volume };
     std::string name;
@@ -95,6 +108,11 @@ struct ObjectSpec {
     std::string gradient = "central";          // central | bspline
     // An object expanded from a "kind": "segmentation" entry: that entry's key path ("" else).
     std::string segmentation;
+    // Clip shapes of this object (core/clip.h), on top of the scene's.
+    std::vector<ClipShape> clip;
+    // Whether the object shadows the lights when SceneSpec::shadows is on.
+    bool castsShadows = true;
+    MaskSpec mask;
 };
 
 struct BackdropSpec {
@@ -179,6 +197,14 @@ struct SceneSpec {
     // Volume segments classified by pre-integration (volume/pre_integration.h): the same
     // accuracy at several times the step on narrow transfer functions.
     bool volumePreIntegrated = false;
+    // Clip shapes of every object (core/clip.h; docs/scene-format.md, "Clip").
+    std::vector<ClipShape> clip;
+    // Shadows (render/integrator.h, "Shadows"): "off", "exact" (a shadow ray per light from
+    // every shaded point) or "cached" (volume samples read a per-light transmittance cache of
+    // nodes shadowCacheVoxels voxels apart; surfaces stay exact).
+    std::string shadows = "off";
+    double shadowCacheVoxels = 2.0;
+    double shadowCacheStepVoxels = 0.5;  // the node rays' step (the scene's if that is coarser)
     std::vector<ObjectSpec> objects;
 };
 

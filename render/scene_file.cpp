@@ -417,6 +417,50 @@ void readTransfer(Reader r, ObjectSpec& o) {
         o.transferPoints = points;
 }
 
+// "clip": [{"plane": {"point": [x, y, z], "normal": [nx, ny, nz]}} | {"box": {"min": [...],
+// "max": [...]}}, each with optional "invert" and "cap"] (core/clip.h).
+std::vector<ClipShape> readClip(Reader& r, const std::string& key) {
+    const Json& list = r.raw(key);
+    const std::string where = r.at(key);
+    if (!list.is_array() || list.size() > size_t(kMaxClipShapes))
+        r.fail(where, "expected an array of at most " + std::to_string(kMaxClipShapes) +
+                          " clip shapes ({\"plane\": {\"point\": [x, y, z], \"normal\": [nx, ny, nz]}} "
+                          "or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}})");
+    std::vector<ClipShape> shapes;
+    for (size_t i = 0; i < list.size(); ++i) {
+        Reader c(list[i], where + "[" + std::to_string(i) + "]", r.file());
+        ClipShape s;
+        if (c.has("plane") == c.has("box")) c.fail(c.path(), "give exactly one of plane or box");
+        if (c.has("plane")) {
+            Reader p = c.child("plane");
+            if (!p.has("point") || !p.has("normal")) p.fail(p.path(), "needs point and normal");
+            s.kind = ClipShape::Kind::Plane;
+            s.point = p.vec3("point", Vec3(0.0));
+            s.normal = p.vec3("normal", Vec3(0.0));
+            const double len = s.normal.length();
+            if (!(len > 0.0) || !std::isfinite(len)) p.fail(p.at("normal"), "must be a non-zero vector");
+            s.normal /= len;
+            p.finish();
+        } else {
+            Reader b = c.child("box");
+            if (!b.has("min") || !b.has("max")) b.fail(b.path(), "needs min and max");
+            s.kind = ClipShape::Kind::Box;
+            s.lo = b.vec3("min", Vec3(0.0));
+            s.hi = b.vec3("max", Vec3(0.0));
+            if (!(s.lo.x < s.hi.x && s.lo.y < s.hi.y && s.lo.z < s.hi.z))
+                b.fail(b.path(), "expected min < max in every axis");
+            b.finish();
+        }
+        if (!isFinite(s.point) || !isFinite(s.lo) || !isFinite(s.hi))
+            c.fail(c.path(), "coordinates must be finite");
+        s.invert = c.boolean("invert", false);
+        s.cap = c.boolean("cap", false);
+        c.finish();
+        shapes.push_back(s);
+    }
+    return shapes;
+}
+
 ObjectSpec readObject(Reader r, const std::string& baseDir) {
     ObjectSpec o;
     o.name = r.string("name", r.path());
@@ -457,6 +501,20 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
         readTransfer(r.child("transfer_function"), o);
         o.reconstruction = r.string("reconstruction", "trilinear", {"trilinear", "bspline", "nearest"});
         o.gradient = r.string("gradient", "central", {"central", "bspline"});
+    }
+    if (r.has("clip")) o.clip = readClip(r, "clip");
+    o.castsShadows = r.boolean("casts_shadows", true);
+    if (r.has("mask")) {
+        // {"source": {...}, "iso": v, "invert": bool}. "labels" (label sets) is the hook another
+        // change fills (MaskSpec::labels); until then it is an unknown key.
+        Reader m = r.child("mask");
+        o.mask.enabled = true;
+        if (!m.has("source")) m.fail(m.at("source"), "missing (the mask's volume, as an object's source)");
+        o.mask.source = readSource(m.child("source"), baseDir);
+        if (!m.has("iso")) m.fail(m.at("iso"), "missing (the object exists where the mask's value is above it)");
+        o.mask.iso = m.number("iso", 0.5, -1e12, 1e12);
+        o.mask.invert = m.boolean("invert", false);
+        m.finish();
     }
     r.finish();
     return o;
@@ -877,6 +935,18 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         scene.shadingRoulette = v.number("shading_roulette", 0.03, 0.0, 0.5);
         scene.volumePreIntegrated = v.boolean("pre_integrated", false);
         v.finish();
+    }
+    if (r.has("clip")) scene.clip = readClip(r, "clip");
+    if (r.has("shadows")) {  // "exact" or {"mode": "cached", "cache_voxels": 2}
+        if (r.raw("shadows").is_string()) {
+            scene.shadows = r.string("shadows", "off", {"off", "exact", "cached"});
+        } else {
+            Reader sh = r.child("shadows");
+            scene.shadows = sh.string("mode", "exact", {"off", "exact", "cached"});
+            scene.shadowCacheVoxels = sh.number("cache_voxels", 2.0, 0.25, 64.0);
+            scene.shadowCacheStepVoxels = sh.number("cache_step_voxels", 0.5, 1e-3, 16.0);
+            sh.finish();
+        }
     }
     if (!r.has("objects")) r.fail("objects", "missing (an array of objects)");
     const Json& objects = r.raw("objects");

@@ -9,11 +9,16 @@ namespace {
 template <class OnEvaluation>
 Spectrum directLightingImpl(const Material& material, const Frame& frameIn, const Vec3& position,
                             const Vec3& toViewer, const std::vector<PointLight>& lights,
-                            bool twoSided, OnEvaluation&& onEvaluation) {
+                            bool twoSided, OnEvaluation&& onEvaluation,
+                            const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     Spectrum radiance;
     forEachLightInFrame(lights, frame, position, toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            if (shadow) {
+                                g *= shadow[&light - lights.data()];
+                                if (!(g > 0.0)) return;
+                            }
                             onEvaluation();
                             Spectrum f = material.kd * kInvPi;
                             if (material.specularOn)
@@ -33,13 +38,15 @@ Spectrum shadeImpl(const ShadingPoint& point, const Vec3& toViewer,
     if (point.hasFrame) {
         if (point.highlight == point.colour)
             return point.colour * directLightingImpl(*point.material, point.frame, point.position,
-                                                     toViewer, lights, true, onEvaluation);
+                                                     toViewer, lights, true, onEvaluation,
+                                                     point.shadow);
         const ShadingTerms terms = shadeTermsImpl(point, toViewer, lights, onEvaluation);
         return terms.lambert + terms.specular;
     }
     Spectrum radiance;
     forEachLight(lights, point.position, [&](const PointLight& light, const Vec3&, double d2) {
-        radiance += point.material->kd * kInvPi * light.intensity * (1.0 / d2);
+        const double v = point.shadow ? point.shadow[&light - lights.data()] : 1.0;
+        radiance += point.material->kd * kInvPi * light.intensity * (v / d2);
     });
     return point.colour * radiance;
 }
@@ -56,6 +63,10 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
     const Frame frame = facingViewer(point.frame, toViewer);
     forEachLightInFrame(lights, frame, point.position, toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            if (point.shadow) {
+                                g *= point.shadow[&light - lights.data()];
+                                if (!(g > 0.0)) return;
+                            }
                             onEvaluation();
                             terms.lambert += m.kd * kInvPi * light.intensity * g;
                             if (m.specularOn)
@@ -115,6 +126,7 @@ void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
     const Frame frame = facingViewer(point.frame, toViewer);
     forEachLightInFrame(lights, frame, point.position, toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            if (point.shadow) g *= point.shadow[&light - lights.data()];
                             const Spectrum irradiance = light.intensity * g;
                             for (size_t m = 0; m < models.size(); ++m)
                                 out[m] += evalBrdf(models[m], wi, wo) *

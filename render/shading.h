@@ -2,7 +2,8 @@
 // (materials/material.h) under the scene's point lights, through the one light loop
 // (core/light.h):
 //   L = Σ_lights (kd/π + f_s(wi, wo)) · I/d² · cos θi      (docs/models.md,
-// "Conventions"; the paper's eq. 1.10 with point lights, no shadows).
+// "Conventions"; the paper's eq. 1.10 with point lights; with shadows each light's term is
+// multiplied by the transmittance towards it, ShadingPoint::shadow).
 #pragma once
 
 #include "core/frame.h"
@@ -52,6 +53,9 @@ struct ShadingPoint {
     Vec3 position{0.0};
     bool hasFrame = true;
     Frame frame;
+    // Shadows (render/integrator.h, "Shadows"): per light (in the scene's order) the
+    // transmittance from the point to it, multiplying that light's irradiance; null: no shadows.
+    const double* shadow = nullptr;
 };
 
 // colour × Lambert + highlight × specular, two-sided (without a frame: colour × the Lambert term

@@ -24,6 +24,23 @@ void fillEmbreeRay(const Ray& ray, RTCRay& out) {
     out.flags = 0;
 }
 
+namespace {
+
+// Embree filter for built-in geometries (the quad mesh): a candidate hit outside the ray's
+// kept intervals is rejected, and Embree goes on to the next one. tfar holds the candidate's
+// distance while the filter runs.
+void clipFilter(const RTCFilterFunctionNArguments* args) {
+    const auto* ctx = reinterpret_cast<const RayContext*>(args->context);
+    if (!ctx || (!ctx->clips && !ctx->masks) || args->N != 1 || args->valid[0] != -1) return;
+    const unsigned geomId = RTCHitN_geomID(args->hit, args->N, 0);
+    const float t = RTCRayN_tfar(args->ray, args->N, 0);
+    const ClipIntervals* clip = ctx->clipOf(geomId);
+    if (clip && !clip->contains(t)) args->valid[0] = 0;
+    else if (ctx->masks && ctx->ray && !ctx->maskKeeps(geomId, ctx->ray->at(t))) args->valid[0] = 0;
+}
+
+}  // namespace
+
 SurfaceScene::SurfaceScene(const std::string& embreeConfig)
     : device_(embreeConfig), scene_(device_) {}
 
@@ -33,12 +50,53 @@ int SurfaceScene::add(std::shared_ptr<const SurfaceGeometry> geometry) {
     RTCGeometry g = geometry->createGeometry(device_.get());
     device_.check("creating the Embree geometry of surface object " +
                   std::to_string(objects_.size()));
+    // Clipping of built-in geometries (user geometries clip in their own callbacks, which do not
+    // call the filters).
+    rtcSetGeometryIntersectFilterFunction(g, &clipFilter);
+    rtcSetGeometryOccludedFilterFunction(g, &clipFilter);
     const unsigned geomId = scene_.attach(g);
     const int objectId = static_cast<int>(objects_.size());
     objects_.push_back(std::move(geometry));
     if (objectOfGeom_.size() <= geomId) objectOfGeom_.resize(geomId + 1, -1);
     objectOfGeom_[geomId] = objectId;
     return objectId;
+}
+
+void SurfaceScene::setClip(int id, std::vector<ClipShape> shapes) {
+    if (committed_) throw Error("SurfaceScene::setClip: the scene is already committed");
+    if (shapes.empty()) return;
+    for (size_t g = 0; g < objectOfGeom_.size(); ++g)
+        if (objectOfGeom_[g] == id) {
+            if (clipOfGeom_.size() <= g) clipOfGeom_.resize(g + 1);
+            clipOfGeom_[g] = std::move(shapes);
+            anyClip_ = true;
+            return;
+        }
+    throw Error("SurfaceScene::setClip: no object " + std::to_string(id));
+}
+
+void SurfaceScene::setMask(int id, std::function<bool(const Vec3&)> keeps) {
+    if (committed_) throw Error("SurfaceScene::setMask: the scene is already committed");
+    for (size_t g = 0; g < objectOfGeom_.size(); ++g)
+        if (objectOfGeom_[g] == id) {
+            if (maskOfGeom_.size() <= g) maskOfGeom_.resize(g + 1);
+            maskOfGeom_[g] = std::move(keeps);
+            return;
+        }
+    throw Error("SurfaceScene::setMask: no object " + std::to_string(id));
+}
+
+void SurfaceScene::fillClips(const Ray& ray, RayContext& ctx, std::vector<ClipIntervals>& buffer,
+                             std::vector<const ClipIntervals*>& pointers) const {
+    buffer.resize(clipOfGeom_.size());
+    pointers.assign(clipOfGeom_.size(), nullptr);
+    for (size_t g = 0; g < clipOfGeom_.size(); ++g)
+        if (!clipOfGeom_[g].empty()) {
+            buffer[g] = clipRay(ray, clipOfGeom_[g]);
+            pointers[g] = &buffer[g];
+        }
+    ctx.clips = pointers.data();
+    ctx.clipCount = unsigned(pointers.size());
 }
 
 void SurfaceScene::commit() {
@@ -51,6 +109,10 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Ray& ray) const {
     RayContext ctx;
     rtcInitIntersectContext(&ctx.base);
     ctx.ray = &ray;
+    thread_local std::vector<ClipIntervals> clipBuffer;
+    thread_local std::vector<const ClipIntervals*> clipPointers;
+    if (anyClip_) fillClips(ray, ctx, clipBuffer, clipPointers);
+    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
     RTCRayHit rh;
     fillEmbreeRay(ray, rh.ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -73,6 +135,10 @@ bool SurfaceScene::occluded(const Ray& ray) const {
     RayContext ctx;
     rtcInitIntersectContext(&ctx.base);
     ctx.ray = &ray;
+    thread_local std::vector<ClipIntervals> clipBuffer;
+    thread_local std::vector<const ClipIntervals*> clipPointers;
+    if (anyClip_) fillClips(ray, ctx, clipBuffer, clipPointers);
+    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
     RTCRay r;
     fillEmbreeRay(ray, r);
     rtcOccluded1(scene_.get(), &ctx.base, &r);

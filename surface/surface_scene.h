@@ -19,10 +19,12 @@
 // bone into air). It is NOT flipped towards the viewer; callers flip it for two-sided shading.
 #pragma once
 
+#include "core/clip.h"
 #include "core/math.h"
 #include "core/ray.h"
 #include "surface/embree_device.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -46,6 +48,19 @@ struct RayContext {
     double tHit = 0.0;         // double distance of the last accepted user-geometry hit
     unsigned geomId = RTC_INVALID_GEOMETRY_ID;
     unsigned primId = RTC_INVALID_GEOMETRY_ID;
+    // Clipping (core/clip.h): the kept intervals of this ray per Embree geometry ID (null: not
+    // clipped), filled by SurfaceScene for single rays. Hits outside them are not reported.
+    const ClipIntervals* const* clips = nullptr;
+    unsigned clipCount = 0;
+    const ClipIntervals* clipOf(unsigned geomId) const {
+        return clips && geomId < clipCount ? clips[geomId] : nullptr;
+    }
+    // Masks (SurfaceScene::setMask), by Embree geometry ID; empty functions keep every hit.
+    const std::vector<std::function<bool(const Vec3&)>>* masks = nullptr;
+    // Whether the mask of geomId keeps world point x.
+    bool maskKeeps(unsigned geomId, const Vec3& x) const {
+        return !masks || geomId >= masks->size() || !(*masks)[geomId] || (*masks)[geomId](x);
+    }
 };
 
 class SurfaceGeometry {
@@ -66,6 +81,14 @@ public:
     // last add and before the first query.
     int add(std::shared_ptr<const SurfaceGeometry> geometry);
     void commit();
+    // Clips object `id` (before commit): only its parts every shape keeps are hit, exactly (the
+    // ray's kept intervals, core/clip.h: user geometries search only inside them, meshes reject
+    // hits outside them in an Embree filter function). Rays from intersect() and occluded().
+    void setClip(int id, std::vector<ClipShape> shapes);
+    // Masks object `id` (before commit): hits at world points where keeps(x) is false are not
+    // reported, and the search goes on behind them (render/scene.cpp makes it from a
+    // volume/volume_mask.h mask). Single rays only.
+    void setMask(int id, std::function<bool(const Vec3&)> keeps);
 
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
     bool occluded(const Ray& ray) const;
@@ -81,6 +104,12 @@ private:
     EmbreeScene scene_;
     std::vector<std::shared_ptr<const SurfaceGeometry>> objects_;
     std::vector<int> objectOfGeom_;  // Embree geometry ID → object ID
+    std::vector<std::vector<ClipShape>> clipOfGeom_;  // by Embree geometry ID
+    bool anyClip_ = false;
+    std::vector<std::function<bool(const Vec3&)>> maskOfGeom_;  // by Embree geometry ID
+    // The clip intervals of `ray` for every clipped geometry into ctx (storage in `buffer`).
+    void fillClips(const Ray& ray, RayContext& ctx, std::vector<ClipIntervals>& buffer,
+                   std::vector<const ClipIntervals*>& pointers) const;
     bool committed_ = false;
 };
 

@@ -37,6 +37,34 @@ inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx,
     }
 }
 
+// The first root in [tMin, tMax] that lies in one of the clip's kept intervals (core/clip.h;
+// all of [tMin, tMax] without a clip): the primitive is searched inside each interval in turn,
+// so a root cut away never hides one behind it.
+// With a mask (RayContext::masks) a root the mask refuses is passed over and the search goes on
+// behind it.
+template <typename Surface>
+bool intersectClipped(const Surface& self, unsigned prim, const Vec3& o, const Vec3& d,
+                      double tMin, double tMax, const ClipIntervals* clip, double& t,
+                      const RayContext* ctx = nullptr, unsigned geomId = 0) {
+    const bool masked = ctx && ctx->masks && ctx->ray && geomId < ctx->masks->size() &&
+                        (*ctx->masks)[geomId];
+    const auto search = [&](double a, double b) {
+        for (int guard = 0; guard < 1024 && a <= b; ++guard) {
+            if (!self.intersectPrimitive(prim, o, d, a, b, t)) return false;
+            if (!masked || ctx->maskKeeps(geomId, ctx->ray->at(t))) return true;
+            a = t + 1e-9 * (1.0 + std::abs(t));
+        }
+        return false;
+    };
+    if (!clip) return search(tMin, tMax);
+    for (int i = 0; i < clip->count; ++i) {
+        const double a = std::max(tMin, clip->v[i].lo.t), b = std::min(tMax, clip->v[i].hi.t);
+        if (a > b) continue;
+        if (search(a, b)) return true;
+    }
+    return false;
+}
+
 template <typename Surface>
 void bounds(const RTCBoundsFunctionArguments* args) {
     const auto* self = static_cast<const Surface*>(args->geometryUserPtr);
@@ -62,7 +90,10 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
         laneRay(ray, args->N, i, ctx, o, d, tMin, tMax);
         const Vec3 oi = self->primitiveSpace().toIndex(o), di = self->primitiveSpace().directionToIndex(d);
         double t;
-        if (!self->intersectPrimitive(args->primID, oi, di, tMin, tMax, t)) continue;
+        const ClipIntervals* clip = args->N == 1 && ctx ? ctx->clipOf(args->geomID) : nullptr;
+        if (!intersectClipped(*self, args->primID, oi, di, tMin, tMax, clip, t,
+                              args->N == 1 ? ctx : nullptr, args->geomID))
+            continue;
         // No geometric normal: nothing reads Embree's Ng (shade() computes the shading normal
         // once, for the hit that wins), so none is computed for every candidate hit.
         RTCRayN_tfar(ray, args->N, i) = static_cast<float>(t);
@@ -92,8 +123,10 @@ void occluded(const RTCOccludedFunctionNArguments* args) {
         double tMin, tMax;
         laneRay(args->ray, args->N, i, ctx, o, d, tMin, tMax);
         double t;
-        if (self->intersectPrimitive(args->primID, self->primitiveSpace().toIndex(o),
-                                     self->primitiveSpace().directionToIndex(d), tMin, tMax, t))
+        const ClipIntervals* clip = args->N == 1 && ctx ? ctx->clipOf(args->geomID) : nullptr;
+        if (intersectClipped(*self, args->primID, self->primitiveSpace().toIndex(o),
+                             self->primitiveSpace().directionToIndex(d), tMin, tMax, clip, t,
+                             args->N == 1 ? ctx : nullptr, args->geomID))
             RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
     }
 }

@@ -264,7 +264,7 @@ double DvrVolume::transparentBrickFraction() const {
 VolumeRaySampler::VolumeRaySampler(const DvrVolume& volume)
     : vol_(&volume), recon_(volume.grid(), volume.dense()) {}
 
-bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
+bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     active_ = false;
     k_ = 0;
     tEnter_ = 0.0;
@@ -289,10 +289,25 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);
     }
+    // Clipping (core/clip.h): the kept intervals of the ray, exactly; the lattice starts at the
+    // first kept point and jumps over the gaps (next()).
+    clip_.count = 0;
+    clipIndex_ = 0;
+    if (!vol_->settings_.clip.empty()) {
+        Ray r = ray;
+        r.tMin = t0;
+        r.tMax = t1;
+        if (!(t0 <= t1)) return false;
+        clip_ = clipRay(r, vol_->settings_.clip);
+        if (clip_.empty()) return false;
+        t0 = clip_.v[0].lo.t;
+        t1 = clip_.v[clip_.count - 1].hi.t;
+    }
     if (!(t0 <= t1) || !std::isfinite(t0) || !std::isfinite(t1)) return false;
     tEnter_ = t0;
     tExit_ = t1;
-    dt_ = vol_->settings_.stepVoxels / idxSpeed;
+    stepVoxels_ = vol_->settings_.stepVoxels * (stepScale >= 1.0 ? stepScale : 1.0);
+    dt_ = stepVoxels_ / idxSpeed;
     jitter_ = std::min(std::max(jitter, 0.0), std::nextafter(1.0, 0.0));
     // Opacity exponent: the world length of one step in reference voxel lengths (header).
     stepRefLengths_ = dt_ * ray.d.length() / g.referenceVoxelLength();
@@ -306,7 +321,7 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter) {
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
-                     vol_->settings_.stepVoxels < kRayPolynomialStep;
+                     stepVoxels_ < kRayPolynomialStep;
     kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
     active_ = true;
     return true;
@@ -331,6 +346,20 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             return false;
         }
         if (t >= tEnd) return false;
+        if (clip_.count > 1) {
+            // Between kept intervals: on to the first lattice point of the next one.
+            while (clipIndex_ < clip_.count && t > clip_.v[clipIndex_].hi.t) ++clipIndex_;
+            if (clipIndex_ == clip_.count) {
+                active_ = false;
+                return false;
+            }
+            const double lo = clip_.v[clipIndex_].lo.t;
+            if (t < lo) {
+                const double kf = std::ceil((lo - tEnter_) * invDt_ - jitter_);
+                k_ = std::max(k_ + 1, kf > 9e18 ? (long long)9e18 : (long long)kf);
+                continue;
+            }
+        }
         const Vec3 p = oIdx_ + dIdx_ * t;
         bool skippable = false;  // this point lies in a transparent brick or cell
         if (set.emptySpaceSkipping) {
@@ -370,7 +399,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                 // lattice points along a ray: 20 at the paper's step). At coarse steps a cell
                 // holds one or two points, and one step is cheaper than computing the jump.
                 if (!closing) {
-                    if (set.stepVoxels < kCellJumpStep) {
+                    if (stepVoxels_ < kCellJumpStep) {
                         jumpPastBox(cell, 1);
                     } else {
                         ++skipped_;
@@ -401,6 +430,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             v.pre_->segment(front, value, stepRefLengths_, alpha, colour, where);
             ++k_;
             if (!(alpha > 0.0)) continue;
+            if (set.mask && !set.mask->keeps(v.geometry_.indexToWorld(oIdx_ + dIdx_ * t))) continue;
             // The sample sits at the segment's centre of extinction (pre_integration.h).
             s.t = t - (1.0 - where) * dt_;
             s.indexPosition = oIdx_ + dIdx_ * s.t;
@@ -415,6 +445,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             v.tf_.evaluate(value, alphaVoxel, colour);
             ++k_;
             if (!(alphaVoxel > 0.0)) continue;
+            if (set.mask && !set.mask->keeps(v.geometry_.indexToWorld(p))) continue;
             // Runs of equal opacities (a transfer function's plateau) are common: correct once.
             if (alphaVoxel != lastAlphaVoxel_) {
                 lastAlphaVoxel_ = alphaVoxel;

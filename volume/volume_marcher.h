@@ -71,11 +71,13 @@
 #include <string>
 #include <vector>
 
+#include "core/clip.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 #include "volume/pre_integration.h"
 #include "volume/reconstruction.h"
 #include "volume/transfer_function.h"
+#include "volume/volume_mask.h"
 
 namespace lobe {
 
@@ -89,6 +91,14 @@ struct DvrSettings {
     // Segments between samples classified by pre-integration (volume/pre_integration.h, header
     // "Pre-integration") instead of the transfer function at the sample.
     bool preIntegrated = false;
+    // Clip shapes (core/clip.h): only the ray's kept intervals are sampled. The lattice starts
+    // at the first kept point (t_in above is then the later of the domain entry and the first
+    // interval's start) and jumps over the gaps between intervals, so empty-space skipping
+    // works inside them as before.
+    std::vector<ClipShape> clip;
+    // A mask (volume/volume_mask.h): samples where it does not keep the object are transparent.
+    // Tested only for samples the transfer function makes visible, so skipping is unchanged.
+    std::shared_ptr<const VolumeMask> mask;
 };
 
 struct VolumeSample {
@@ -164,7 +174,9 @@ public:
 
     // Starts a ray with jitter ξ ∈ [0, 1). Returns false when the ray misses the domain (then
     // next() returns false at once).
-    bool begin(const Ray& ray, double jitter);
+    // stepScale ≥ 1 multiplies the volume's step for this ray (shadow rays of the shadow cache,
+    // render/shadow_cache.h; the opacity correction follows the step, as it does for any step).
+    bool begin(const Ray& ray, double jitter, double stepScale = 1.0);
 
     // The next sample with non-zero opacity and t < tEnd, in lattice order. Returns false when
     // there is none before tEnd; the state then stays at the first lattice point ≥ tEnd (or
@@ -210,6 +222,7 @@ private:
     GridReconstructor recon_;
     Vec3 oIdx_{0.0}, dIdx_{0.0};
     double tEnter_ = 0.0, tExit_ = -1.0, dt_ = 1.0, jitter_ = 0.0;
+    double stepVoxels_ = 0.05;  // this ray's step in voxels (the volume's × stepScale)
     bool rayPolynomial_ = false;   // B-spline values from the ray's polynomial per cell
     double stepRefLengths_ = 1.0;  // world length of one step / ℓ_ref: the opacity exponent
     double invDIdx_[3] = {0, 0, 0}, invDt_ = 1.0;  // 1 / dIdx_ (0 where dIdx_ is 0), 1 / dt_
@@ -222,6 +235,8 @@ private:
     bool prevSkippable_ = false;  // the last opacity corrected, and its result
     long long k_ = 0;
     bool active_ = false;
+    ClipIntervals clip_;  // kept intervals of the ray (DvrSettings::clip), when clipped
+    int clipIndex_ = 0;
     long long evaluated_ = 0, skipped_ = 0;
 };
 

@@ -116,6 +116,13 @@ s = base("T2 CThead DVR", step=1.0); s["objects"] = [ct_volume()]; write("t2_dvr
 # T3: GM step sd (world) = 0.87 * step_voxels; the file's default is sd 0.5 -> 0.5/0.87 voxel; --step overrides
 s = base("T3 GM peaks + cut skull (volume cut)", step=round(0.5 / L_REF_GM, 6))
 s["objects"] = [skull("exact", CT_CUT), gm_volume()]; write("t3_cut", s)
+# T3 with the whole CThead cut by a clip plane (core/clip.h) instead of the cut volume: the same plane as
+# make_sbs_assets.py's (through CENTER, keeping the side away from the camera), exact rather than per voxel.
+_eye, _fwd, _right, _up = common.camera_frame()
+_sk = skull("exact")
+_sk["clip"] = [{"plane": {"point": [float(v) for v in common.CENTER], "normal": [float(v) for v in _fwd]}}]
+s = base("T3 GM peaks + cut skull (clip plane)", step=round(0.5 / L_REF_GM, 6))
+s["objects"] = [_sk, gm_volume()]; write("t3_clip", s)
 s = base("T3 GM peaks only", step=round(0.5 / L_REF_GM, 6)); s["objects"] = [gm_volume()]; write("t3_gm", s)
 print("T2 alpha per l_ref", per_lref(0.2, L_REF_CT), "GM", [per_lref(op, L_REF_GM) for _, op, _ in common.T3_PEAKS])
 print("skull colour bands", bands((0.92, 0.86, 0.74)))
