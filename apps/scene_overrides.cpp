@@ -1,7 +1,10 @@
 #include "apps/scene_overrides.h"
 
+#include "core/error.h"
+
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdlib>
 
 namespace lobe {
