@@ -1,11 +1,18 @@
 // What every fuzz target shares: the input written to a file of this process's own (the volume
 // readers take paths), and the rule that bad input may throw lobe::Error — one clear message —
 // while anything else (another exception, a crash, a sanitizer report, a hang) is a finding.
+// What a target runs must depend on the input alone, so that a fixed count of inputs with a fixed
+// seed (scripts/run_fuzzers.sh --runs, `make test`) explores the same inputs on every machine:
+// the input's file has the same name in every run, in the working folder (the script makes one
+// for each target; a name with the PID in it made messages — and the code paths that build them —
+// differ in length from run to run, and put NRRD's "data.raw" where its header did not look),
+// and oneTBB runs on one thread (how work
+// is split between threads changed the coverage counts libFuzzer steers by).
 #pragma once
 
 #include "core/error.h"
 
-#include <unistd.h>
+#include <tbb/global_control.h>
 
 #include <cstdint>
 #include <cstdio>
@@ -15,8 +22,10 @@
 
 namespace lobe::fuzz {
 
+inline const tbb::global_control kOneThread(tbb::global_control::max_allowed_parallelism, 1);
+
 inline std::string writeInput(const std::string& name, const uint8_t* data, size_t size) {
-    const std::string path = "/tmp/lobe-fuzz-" + std::to_string(::getpid()) + "-" + name;
+    const std::string& path = name;  // in the working folder (beside each other: NRRD's data file)
     if (FILE* f = std::fopen(path.c_str(), "wb")) {
         if (size) std::fwrite(data, 1, size, f);
         std::fclose(f);
