@@ -416,6 +416,16 @@ bool niftiType(int code, VoxelType& type) {
     }
 }
 
+// A header's voxel-to-world map (NIfTI, MGH) must be finite and invertible.
+void checkHeaderAffine(const std::string& path, const decltype(DenseVolume::affine)& affine) {
+    for (const auto& row : affine)
+        for (double x : row)
+            if (!std::isfinite(x)) throw Error(path + ": the header's orientation is not finite");
+    if (nearlySingular(affine))
+        throw Error(path + ": the header's voxel-to-world map is singular or nearly so (a zero "
+                           "voxel size, or axes almost parallel)");
+}
+
 }  // namespace
 
 DenseVolume readNiftiDense(const std::string& path) {
@@ -516,12 +526,7 @@ DenseVolume readNiftiDense(const std::string& path) {
         // nifti1.h METHOD 1 (old ANALYZE): x = pixdim[1] i, y = pixdim[2] j, z = pixdim[3] k.
         v.affine = {{{pixdim[1], 0, 0, 0}, {0, pixdim[2], 0, 0}, {0, 0, pixdim[3], 0}}};
     }
-    for (const auto& row : v.affine)
-        for (double x : row)
-            if (!std::isfinite(x)) throw Error(path + ": the header's orientation is not finite");
-    if (nearlySingular(v.affine))
-        throw Error(path + ": the header's voxel-to-world map is singular or nearly so (a zero "
-                           "voxel size, or axes almost parallel)");
+    checkHeaderAffine(path, v.affine);
     return v;
 }
 
@@ -595,12 +600,7 @@ DenseVolume readMghDense(const std::string& path) {
         }
         v.affine[row][3] = c[row] - centre;
     }
-    for (const auto& row : v.affine)
-        for (double x : row)
-            if (!std::isfinite(x)) throw Error(path + ": the header's orientation is not finite");
-    if (nearlySingular(v.affine))
-        throw Error(path + ": the header's voxel-to-world map is singular or nearly so (a zero "
-                           "voxel size, or axes almost parallel)");
+    checkHeaderAffine(path, v.affine);
     return v;
 }
 

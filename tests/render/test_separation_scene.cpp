@@ -79,6 +79,19 @@ SeparationReport reportOf(const SceneSpec& spec) {
 // The highlight term alone (grey spheres: identity 1; the score also weighs visibility and veiling).
 double scoreOf(const SceneSpec& spec) { return reportOf(spec).highlight; }
 
+// One render of `spec` with every candidate's per-model layers, as `lobe assign` makes it.
+AssignmentLayers layersOf(const SceneSpec& spec, const std::vector<BrdfCandidate>& candidates) {
+    AovRequest request;
+    request.objects = request.backdrop = true;
+    requestCandidateLayers(candidates, request);
+    const RenderScene scene(spec, false);
+    RenderOptions options;
+    options.progress = false;
+    AovImage aovs;
+    scene.render(options, nullptr, &request, &aovs);
+    return assignmentLayers(spec, aovs, candidates);
+}
+
 TEST(SeparationScene, HighlightsMovedApartScoreHigher) {
     const double behind = scoreOf(twoSpheres(0));
     const double half = scoreOf(twoSpheres(6));
@@ -121,15 +134,7 @@ TEST(SeparationScene, AssignmentLayersReproduceAFullRender) {
     const SceneSpec spec = twoSpheres(8);
     std::vector<BrdfCandidate> candidates = {{"phong", {}, {}, ""}, {"ward", {}, {}, ""},
                                              {"schlick_lewis", {}, {}, ""}};
-    AovRequest request;
-    request.objects = request.backdrop = true;
-    requestCandidateLayers(candidates, request);
-    const RenderScene scene(spec, false);
-    RenderOptions options;
-    options.progress = false;
-    AovImage aovs;
-    scene.render(options, nullptr, &request, &aovs);
-    const AssignmentLayers layers = assignmentLayers(spec, aovs, candidates);
+    const AssignmentLayers layers = layersOf(spec, candidates);
     // The front sphere keeps Phong (it is Phong in `spec` too); the back one takes each model.
     for (int c = 0; c < 3; ++c) {
         const double fromLayers = assignmentScore(layers, {0, c});
@@ -146,15 +151,7 @@ TEST(SeparationScene, ANarrowLobeSpecksAndABroadOneDoesNot) {
     const SceneSpec spec = twoSpheres(16);
     std::vector<BrdfCandidate> candidates = {{"phong", {}, {}, ""},
                                              {"cook_torrance", {"m=0.03"}, {}, ""}};
-    AovRequest request;
-    request.objects = request.backdrop = true;
-    requestCandidateLayers(candidates, request);
-    const RenderScene scene(spec, false);
-    RenderOptions options;
-    options.progress = false;
-    AovImage aovs;
-    scene.render(options, nullptr, &request, &aovs);
-    const AssignmentLayers layers = assignmentLayers(spec, aovs, candidates);
+    const AssignmentLayers layers = layersOf(spec, candidates);
     // The front sphere faces the light at its centre: its narrow highlight is a speck. (On the
     // back sphere, 16 voxels aside, the 2 samples per pixel miss that narrow a highlight entirely
     // — the other face of sub-pixel highlights: they flicker in and out with the sampling.)
