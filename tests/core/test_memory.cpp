@@ -58,10 +58,24 @@ TEST(Memory, CgroupV1LimitAndItsUnlimitedValue) {
     EXPECT_EQ(cgroupMemoryLimit("", root.string()), 0.0);
 }
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LOBE_HAS_ASAN 1
+#endif
+#endif
+#ifndef LOBE_HAS_ASAN
+#define LOBE_HAS_ASAN 0
+#endif
+
 // In a child under RLIMIT_AS = 1 GiB: the budget is that limit (unless the machine has less
 // memory), and checkFits refuses 0.6 GB naming ulimit -v — the physical memory alone was the
 // budget before, and the allocation failed with std::bad_alloc.
 TEST(Memory, AddressSpaceLimitIsTheBudget) {
+#if defined(__SANITIZE_ADDRESS__) || LOBE_HAS_ASAN
+    // AddressSanitizer maps its shadow memory far beyond any 1 GiB address-space limit, so the
+    // child cannot allocate at all; the Release build's run of this test checks the limit.
+    GTEST_SKIP() << "not under AddressSanitizer (its shadow memory exceeds RLIMIT_AS)";
+#endif
     int pipeFds[2];
     ASSERT_EQ(::pipe(pipeFds), 0);
     const pid_t child = ::fork();
