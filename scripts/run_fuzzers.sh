@@ -7,9 +7,12 @@
 #   scripts/run_fuzzers.sh BUILD_DIR --runs [TARGET...]
 #     the test (`make test`): a fixed number of inputs per target (kRuns below, libFuzzer
 #     -runs=N) with a fixed seed (FUZZ_SEED, default 1), from the seeds in fuzz/corpus/NAME only
-#     (the regression corpus, replayed first) into a throw-away corpus, and without -reload (which
-#     re-reads the corpus folder every second, so that what is fuzzed after it depends on timing:
-#     two runs of 200 000 inputs differed without -reload=0), so a commit tests the same
+#     (the regression corpus, replayed first) into a throw-away corpus, without -reload (which
+#     re-reads the corpus folder every second, so that what is fuzzed after it depends on timing)
+#     and without comparison-guided mutation (-use_cmp=0: libFuzzer files the operands of traced
+#     comparisons by their XOR, so stack and heap addresses — the environment's size, ASLR —
+#     changed which values it mutated towards; two runs with environments 3 kB apart differed with
+#     it and agreed without it), so a commit tests the same
 #     inputs on any machine, however fast or busy. It prints each target's count and a digest of
 #     the inputs it kept (libFuzzer names them by content), which two runs can compare.
 # An input that crashes, trips a sanitizer, throws anything but lobe::Error or runs over the
@@ -37,7 +40,7 @@ for t in "${targets[@]}"; do
   work=$(mktemp -d)
   if [[ $mode == --runs ]]; then
     corpus="$work/corpus"
-    limits=(-runs="${kRuns[$t]}" -seed="${FUZZ_SEED:-1}" -reload=0 -timeout=120)
+    limits=(-runs="${kRuns[$t]}" -seed="${FUZZ_SEED:-1}" -reload=0 -use_cmp=0 -timeout=120)
     echo "fuzz_$t: ${kRuns[$t]} inputs, seed ${FUZZ_SEED:-1}"
   else
     corpus="$build/fuzz-corpus/$t"
