@@ -461,6 +461,19 @@ std::vector<ClipShape> readClip(Reader& r, const std::string& key) {
     return shapes;
 }
 
+// The keys an object and a segmentation share: transform, brdf (required; `missingBrdf` says
+// so), kd, tangent_axis and highlight.
+void readLook(Reader& r, ObjectSpec& o, const std::string& missingBrdf) {
+    if (r.has("transform")) o.transform = readTransform(r.child("transform"));
+    if (!r.has("brdf")) r.fail(r.at("brdf"), missingBrdf);
+    readBrdf(r.child("brdf"), o);
+    o.material.kd = r.bands("kd", Spectrum(0.2), 0.0, 1.0);
+    o.tangentAxis = r.vec3("tangent_axis", Vec3(0, 0, 1));
+    if (!(o.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
+    o.tangentAxis.normalize();
+    o.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
+}
+
 ObjectSpec readObject(Reader r, const std::string& baseDir) {
     ObjectSpec o;
     o.name = r.string("name", r.path());
@@ -469,14 +482,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     o.kind = kind == "volume" ? ObjectSpec::Kind::Volume : ObjectSpec::Kind::IsoSurface;
     if (!r.has("source")) r.fail(r.at("source"), "missing");
     o.source = readSource(r.child("source"), baseDir);
-    if (r.has("transform")) o.transform = readTransform(r.child("transform"));
-    if (!r.has("brdf")) r.fail(r.at("brdf"), "missing ({\"model\": NAME, parameters...})");
-    readBrdf(r.child("brdf"), o);
-    o.material.kd = r.bands("kd", Spectrum(0.2), 0.0, 1.0);
-    o.tangentAxis = r.vec3("tangent_axis", Vec3(0, 0, 1));
-    if (!(o.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
-    o.tangentAxis.normalize();
-    o.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
+    readLook(r, o, "missing ({\"model\": NAME, parameters...})");
     if (o.kind == ObjectSpec::Kind::IsoSurface && !o.source.labels.empty()) {
         // The surface of a label set is its anti-aliased indicator's 0.5 level (volume/labels.h).
         if (r.has("iso"))
@@ -544,14 +550,7 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
     } catch (const Error& e) {
         r.fail(r.at("labels"), e.what());
     }
-    if (r.has("transform")) base.transform = readTransform(r.child("transform"));
-    if (!r.has("brdf")) r.fail(r.at("brdf"), "missing (the labels' BRDF: {\"model\": NAME, …})");
-    readBrdf(r.child("brdf"), base);
-    base.material.kd = r.bands("kd", Spectrum(0.2), 0.0, 1.0);
-    base.tangentAxis = r.vec3("tangent_axis", Vec3(0, 0, 1));
-    if (!(base.tangentAxis.length() > 0)) r.fail(r.at("tangent_axis"), "must not be the zero vector");
-    base.tangentAxis.normalize();
-    base.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
+    readLook(r, base, "missing (the labels' BRDF: {\"model\": NAME, …})");
     base.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
     if (base.method == "levelset") {
         base.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
