@@ -552,6 +552,7 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
     }
     readLook(r, base, "missing (the labels' BRDF: {\"model\": NAME, …})");
     base.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
+    base.isoNormals = r.string("normals", "trilinear", {"trilinear", "bspline"});
     if (base.method == "levelset") {
         base.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
         base.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);

@@ -211,6 +211,15 @@ TEST(LabelScene, NamesNumbersAndSegmentations) {
     // The table's #ff0000: sRGB 1, 0, 0 → linear 1, 0, 0 → bands; without a colour, white.
     EXPECT_GT(s.objects[3].color[0], s.objects[3].color[2]);
     EXPECT_EQ(s.objects[0].color[0], 1.0);
+    EXPECT_EQ(s.objects[0].isoNormals, "trilinear");
+
+    // "normals" applies to every label (smooth shading normals: no voxel grid in the highlights).
+    s = parseScene(object(R"({"kind": "segmentation", "labels": [2, 4], "normals": "bspline",
+        "brdf": {"model": "lambert"}, "source": )" + source(kTable) + "}"),
+                   test::kSceneBase, "scene.json");
+    ASSERT_EQ(s.objects.size(), 2u);
+    EXPECT_EQ(s.objects[0].isoNormals, "bspline");
+    EXPECT_EQ(s.objects[1].isoNormals, "bspline");
 }
 
 TEST(LabelScene, FitUsesTheLabelsOwnBox) {
