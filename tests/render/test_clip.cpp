@@ -25,6 +25,7 @@
 #include "surface/iso_levelset.h"
 #include "surface/iso_mesh.h"
 #include "surface/surface_scene.h"
+#include "test_files.h"
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -64,10 +65,8 @@ fs::path dataDir() {
         for (int k = 0; k < 40; ++k)
             for (int j = 0; j < 40; ++j)
                 for (int i = 0; i < 40; ++i) sphere[(k * 40 + j) * 40 + i] = sphereValue(i, j, k);
-        std::ofstream(d / "box.raw", std::ios::binary)
-            .write(reinterpret_cast<const char*>(box.data()), std::streamsize(box.size() * 4));
-        std::ofstream(d / "sphere.raw", std::ios::binary)
-            .write(reinterpret_cast<const char*>(sphere.data()), std::streamsize(sphere.size() * 4));
+        test::writeFloatsAtomically(d / "box.raw", box);
+        test::writeFloatsAtomically(d / "sphere.raw", sphere);
         return d;
     }();
     return dir;

@@ -11,9 +11,9 @@
 #include "render/shading.h"
 #include "materials/albedo.h"
 #include "core/error.h"
+#include "test_files.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -36,12 +36,7 @@ fs::path ballFile() {
                                            (z - 15.5) * (z - 15.5));
                 v[size_t((z * 32 + y) * 32 + x)] = float(std::max(0.0, 1.0 - r / 12.0));
             }
-    // ctest runs each test as its own process, in parallel: write under this process's own name
-    // and rename, so no test ever reads the file while another is rewriting it.
-    const fs::path own = dir / ("ball.raw." + std::to_string(::getpid()));
-    std::ofstream(own, std::ios::binary)
-        .write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * 4));
-    fs::rename(own, dir / "ball.raw");
+    test::writeFloatsAtomically(dir / "ball.raw", v);
     return dir;
 }
 

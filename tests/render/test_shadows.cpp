@@ -22,6 +22,7 @@
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "render/shadow_cache.h"
+#include "test_files.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -41,10 +42,7 @@ namespace fs = std::filesystem;
 const Vec3 kC(24, 24, 14), kLight(24, 24, 60);
 constexpr double kR = 5.0, kFloorZ = 3.5;
 
-void write(const fs::path& p, const std::vector<float>& v) {
-    std::ofstream(p, std::ios::binary)
-        .write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * 4));
-}
+void write(const fs::path& p, const std::vector<float>& v) { test::writeFloatsAtomically(p, v); }
 
 fs::path dataDir() {
     static const fs::path dir = [] {
