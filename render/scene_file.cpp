@@ -474,6 +474,19 @@ void readLook(Reader& r, ObjectSpec& o, const std::string& missingBrdf) {
     o.highlightTakesLight = r.string("highlight", "light", {"light", "colour"}) == "light";
 }
 
+// The keys of an iso-surface that an object and a segmentation's labels share: method (and the
+// level-set keys), normals, opacity.
+void readSurfaceKeys(Reader& r, ObjectSpec& o) {
+    o.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
+    o.isoNormals = r.string("normals", "trilinear", {"trilinear", "bspline"});
+    if (o.method == "levelset") {
+        o.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
+        o.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);
+        o.levelSetSmooth = r.integer("levelset_smooth", 0, 0, 1000);
+    }
+    o.opacity = r.number("opacity", 1.0, 0.0, 1.0);
+}
+
 ObjectSpec readObject(Reader r, const std::string& baseDir) {
     ObjectSpec o;
     o.name = r.string("name", r.path());
@@ -493,14 +506,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     }
     if (o.kind == ObjectSpec::Kind::IsoSurface) {
         o.iso = r.number("iso", 0.5, -1e12, 1e12);
-        o.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
-        o.isoNormals = r.string("normals", "trilinear", {"trilinear", "bspline"});
-        if (o.method == "levelset") {
-            o.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
-            o.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);
-            o.levelSetSmooth = r.integer("levelset_smooth", 0, 0, 1000);
-        }
-        o.opacity = r.number("opacity", 1.0, 0.0, 1.0);
+        readSurfaceKeys(r, o);
         o.color = r.bands("color", Spectrum(1.0), 0.0, 1e6);
     } else {
         if (!r.has("transfer_function")) r.fail(r.at("transfer_function"), "missing");
@@ -551,14 +557,7 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
         r.fail(r.at("labels"), e.what());
     }
     readLook(r, base, "missing (the labels' BRDF: {\"model\": NAME, …})");
-    base.method = r.string("method", "exact", {"exact", "mesh", "levelset"});
-    base.isoNormals = r.string("normals", "trilinear", {"trilinear", "bspline"});
-    if (base.method == "levelset") {
-        base.levelSetVoxel = r.number("levelset_voxel", 0.0, 0.0, 1e6);
-        base.levelSetHalfWidth = r.number("levelset_half_width", 3.0, 1.0, 64.0);
-        base.levelSetSmooth = r.integer("levelset_smooth", 0, 0, 1000);
-    }
-    base.opacity = r.number("opacity", 1.0, 0.0, 1.0);
+    readSurfaceKeys(r, base);
     const bool colourGiven = r.has("color");
     base.color = r.bands("color", Spectrum(1.0), 0.0, 1e6);
     // Overrides by label name (or number): {"Hippocampus_L": {"brdf": …, "opacity": …}}.
