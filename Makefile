@@ -17,10 +17,11 @@ demo: build
 	@mkdir -p out
 	$(LOBE) demo --out out
 
-# The whole suite, then the unit tests under AddressSanitizer + UndefinedBehaviorSanitizer and a
+# The format check (scripts/check_format.sh: every C++ file as .clang-format says), the whole suite, then the unit tests under AddressSanitizer + UndefinedBehaviorSanitizer and a
 # fixed number of inputs through every fuzz target (the same inputs on any machine), both from one
 # clang build (build-san).
 test: build
+	@scripts/check_format.sh
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 	@$(MAKE) --no-print-directory sanitize
 

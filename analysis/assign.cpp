@@ -54,8 +54,9 @@ AssignmentLayers mergeAssignmentObjects(const AssignmentLayers& in, const std::s
         const bool member =
             std::find(members.begin(), members.end(), in.scene.objects[o]) != members.end();
         const std::string& target = member ? name : in.scene.objects[o];
-        const size_t t = size_t(std::find(out.scene.objects.begin(), out.scene.objects.end(), target) -
-                                out.scene.objects.begin());
+        const size_t t =
+            size_t(std::find(out.scene.objects.begin(), out.scene.objects.end(), target) -
+                   out.scene.objects.begin());
         for (size_t c = 0; c < m; ++c) {
             std::vector<float>& dst = out.specular[t * m + c];
             const std::vector<float>& src = in.layer(int(o), int(c));
@@ -110,9 +111,10 @@ struct Judge {
     SeparationScorer scorer;
     AssignResult& result;
     Judge(const AssignmentLayers& l, const AssignOptions& o, AssignResult& r)
-        : layers(l), options(o), scorer(l.scene, o.metric == SeparationMetric::Itp ? kItpThreshold
-                                                                                    : kWeberContrast,
-                                        o.metric),
+        : layers(l),
+          options(o),
+          scorer(l.scene, o.metric == SeparationMetric::Itp ? kItpThreshold : kWeberContrast,
+                 o.metric),
           result(r) {}
     double operator()(const std::vector<int>& a) {
         ++result.evaluated;
@@ -139,10 +141,9 @@ struct Ranking {
             if (s.assignment == a) return;
         if (best.size() == top && !(score > best.back().score)) return;
         best.push_back({a, score});
-        std::stable_sort(best.begin(), best.end(), [](const ScoredAssignment& x,
-                                                      const ScoredAssignment& y) {
-            return x.score > y.score;
-        });
+        std::stable_sort(
+            best.begin(), best.end(),
+            [](const ScoredAssignment& x, const ScoredAssignment& y) { return x.score > y.score; });
         if (best.size() > top) best.pop_back();
     }
 };
@@ -159,7 +160,8 @@ std::vector<std::vector<int>> choicesPerObject(const AssignmentLayers& layers,
         }
         for (size_t c = 0; c < m; ++c)
             if ((o.allowed.empty() || o.allowed[c]) &&
-                (i >= o.objectAllowed.size() || o.objectAllowed[i].empty() || o.objectAllowed[i][c]))
+                (i >= o.objectAllowed.size() || o.objectAllowed[i].empty() ||
+                 o.objectAllowed[i][c]))
                 choices[i].push_back(int(c));
         if (choices[i].empty())
             throw Error("assign: no candidate BRDF left for object '" + layers.objects()[i] + "'");
@@ -219,7 +221,8 @@ AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptio
     for (int r = 0; r < options.restarts; ++r) {
         std::vector<int> s(choices.size());
         for (size_t i = 0; i < s.size(); ++i)
-            s[i] = choices[i][size_t(rng.uniform() * double(choices[i].size())) % choices[i].size()];
+            s[i] =
+                choices[i][size_t(rng.uniform() * double(choices[i].size())) % choices[i].size()];
         starts.push_back(s);
     }
     for (std::vector<int> a : starts) {
@@ -255,9 +258,8 @@ uint64_t countBetter(const AssignmentLayers& layers, const AssignOptions& option
     Judge judge(layers, options, scratch);
     const SeparationReport mine = assignmentReport(judge.scorer, layers, assignment);
     uint64_t better = 0;
-    forEachAssignment(choicesPerObject(layers, options), [&](const std::vector<int>& a) {
-        better += judge(a) > mine.score;
-    });
+    forEachAssignment(choicesPerObject(layers, options),
+                      [&](const std::vector<int>& a) { better += judge(a) > mine.score; });
     return better;
 }
 

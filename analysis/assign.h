@@ -49,13 +49,13 @@ SeparationReport assignmentReport(const SeparationScorer& scorer, const Assignme
 double assignmentScore(const AssignmentLayers& layers, const std::vector<int>& assignment);
 
 struct AssignOptions {
-    std::vector<int> fixed;             // per object: −1 free, else the candidate it keeps
-    std::vector<bool> allowed;          // per candidate: may be chosen for a free object
+    std::vector<int> fixed;     // per object: −1 free, else the candidate it keeps
+    std::vector<bool> allowed;  // per candidate: may be chosen for a free object
     std::vector<std::vector<bool>> objectAllowed;  // per object, per candidate (empty: all)
-    int top = 10;                       // how many ranked assignments to keep
-    uint64_t exhaustiveLimit = 200000;  // search every assignment up to this many
-    int restarts = 16;                  // local search: random starts besides `start`
-    std::vector<int> start;             // local search: a first start (e.g. the scene's own)
+    int top = 10;                                  // how many ranked assignments to keep
+    uint64_t exhaustiveLimit = 200000;             // search every assignment up to this many
+    int restarts = 16;                             // local search: random starts besides `start`
+    std::vector<int> start;  // local search: a first start (e.g. the scene's own)
     uint64_t seed = 1;
     SeparationMetric metric = SeparationMetric::Weber;
     // Constraints; an assignment that breaks one is not ranked. distinct: no two objects share a
@@ -76,7 +76,7 @@ struct ScoredAssignment {
 struct AssignResult {
     std::vector<ScoredAssignment> ranked;  // best first, at most options.top; may be empty when
                                            // no assignment keeps the constraints
-    uint64_t rejected = 0;  // assignments scored but breaking a constraint
+    uint64_t rejected = 0;                 // assignments scored but breaking a constraint
     bool exhaustive = false;
     uint64_t evaluated = 0;  // assignments scored
     uint64_t space = 0;      // assignments in the search space (saturates at UINT64_MAX)

@@ -19,7 +19,9 @@ double displayedShoulder(double x, bool shoulder) {
     return std::min(1.0, shoulder ? shoulderTone(x) : x);
 }
 
-double displayed(double x, const std::string& tone) { return displayedShoulder(x, toneIsShoulder(tone)); }
+double displayed(double x, const std::string& tone) {
+    return displayedShoulder(x, toneIsShoulder(tone));
+}
 
 Rgb3 srgbToLab(const Rgb3& c) {
     // IEC 61966-2-1 linear sRGB → XYZ (D65); the white (1,1,1) → the matrix's row sums.

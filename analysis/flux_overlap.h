@@ -24,13 +24,13 @@ const char* overlapVariantName(OverlapVariant variant);
 
 // Everything the metric computes for one pair of lattices.
 struct FluxOverlap {
-    int64_t areaA = 0;  // #{Φa > t}
-    int64_t areaB = 0;  // #{Φb > t}
-    double OA = 0.0;    // Σ c_xy (flux of A not covered by B)
-    double OB = 0.0;    // Σ d_xy
-    double sumC2 = 0.0; // Σ c_xy² (for the mse variant)
-    double sumD2 = 0.0; // Σ d_xy²
-    int64_t count = 0;  // m·n
+    int64_t areaA = 0;   // #{Φa > t}
+    int64_t areaB = 0;   // #{Φb > t}
+    double OA = 0.0;     // Σ c_xy (flux of A not covered by B)
+    double OB = 0.0;     // Σ d_xy
+    double sumC2 = 0.0;  // Σ c_xy² (for the mse variant)
+    double sumD2 = 0.0;  // Σ d_xy²
+    int64_t count = 0;   // m·n
     double eSum = 0.0;
     double eMse = 0.0;
 

@@ -5,8 +5,8 @@
 #include "core/error.h"
 #include "core/frame.h"
 #include "core/light.h"
-#include "core/progress.h"
 #include "core/pixel_loop.h"
+#include "core/progress.h"
 #include "materials/registry.h"
 #include "surface/implicit_primitives.h"
 
@@ -20,8 +20,8 @@
 
 namespace lobe {
 
-const std::array<const char*, kStandardPrimitiveCount> kStandardPrimitiveNames = {
-    "sphere", "torus", "superquadric"};
+const std::array<const char*, kStandardPrimitiveCount> kStandardPrimitiveNames = {"sphere", "torus",
+                                                                                  "superquadric"};
 
 namespace {
 
@@ -77,8 +77,8 @@ LatticeSet renderStandardLattices(const StandardTestOptions& options) {
     std::vector<Brdf> brdfs;
     for (const std::string& m : set.models) {
         const auto it = options.settings.find(m);
-        brdfs.push_back(makeBrdf(m, it == options.settings.end() ? std::vector<std::string>{}
-                                                                 : it->second));
+        brdfs.push_back(
+            makeBrdf(m, it == options.settings.end() ? std::vector<std::string>{} : it->second));
     }
     std::vector<ImplicitPrimitive> primitives;
     for (const char* name : kStandardPrimitiveNames)
@@ -93,8 +93,8 @@ LatticeSet renderStandardLattices(const StandardTestOptions& options) {
 
     // One image per primitive through the pixel loop; every sample's specular radiance is
     // accumulated for all models at once from one ray, hit and frame.
-    ProgressReporter progress("overlap lattices",
-                              int64_t(kStandardPrimitiveCount) * size * size, options.progress);
+    ProgressReporter progress("overlap lattices", int64_t(kStandardPrimitiveCount) * size * size,
+                              options.progress);
     SchedulerOptions scheduler;
     scheduler.threads = options.threads;
     scheduler.sharedProgress = &progress;
@@ -113,12 +113,12 @@ LatticeSet renderStandardLattices(const StandardTestOptions& options) {
                     Frame::fromNormalAndAxis(hit.n, Vec3(0, 1, 0), Vec3(1, 0, 0), 1e-3);
                 // f_s · I/d² · cos θi with I = 1 (eq. 1.20 for a point light); nothing where the
                 // viewer or the light is below the surface (docs/models.md).
-                forEachLightInFrame(lights, frame, hit.p, -ray.d,
-                                    [&](const PointLight&, const Vec3& wi, const Vec3& wo,
-                                        double weight) {
-                                        for (int m = 0; m < modelCount; ++m)
-                                            acc[size_t(m)] += evalBrdf(brdfs[size_t(m)], wi, wo) * weight;
-                                    });
+                forEachLightInFrame(
+                    lights, frame, hit.p, -ray.d,
+                    [&](const PointLight&, const Vec3& wi, const Vec3& wo, double weight) {
+                        for (int m = 0; m < modelCount; ++m)
+                            acc[size_t(m)] += evalBrdf(brdfs[size_t(m)], wi, wo) * weight;
+                    });
             });
             const size_t pixel = size_t(y) * size + x;
             for (int m = 0; m < modelCount; ++m)
@@ -153,8 +153,8 @@ std::vector<PairScore> scoreAllPairs(const LatticeSet& lattices, double threshol
             const PairScore& p = pairs[i / perPair];
             const int primitive = int((i % perPair) / 3), band = int(i % 3);
             results[i] = fluxOverlap(lattices.lattice(p.a, primitive, band),
-                                     lattices.lattice(p.b, primitive, band),
-                                     lattices.latticeSize(), threshold);
+                                     lattices.lattice(p.b, primitive, band), lattices.latticeSize(),
+                                     threshold);
         });
     });
     for (size_t k = 0; k < pairs.size(); ++k) {
@@ -182,8 +182,8 @@ void rankPairs(std::vector<PairScore>& pairs) {
         return std::make_pair(x.a, x.b) < std::make_pair(y.a, y.b);
     });
     for (size_t i = 0; i < pairs.size(); ++i)
-        pairs[i].rank = (i > 0 && pairs[i].score == pairs[i - 1].score) ? pairs[i - 1].rank
-                                                                       : int(i) + 1;
+        pairs[i].rank =
+            (i > 0 && pairs[i].score == pairs[i - 1].score) ? pairs[i - 1].rank : int(i) + 1;
 }
 
 RankAgreement compareRankings(const std::vector<double>& x, const std::vector<double>& y) {
@@ -206,7 +206,6 @@ RankAgreement compareRankings(const std::vector<double>& x, const std::vector<do
     r.kendallTau = denom > 0.0 ? double(concordant - discordant) / denom : 1.0;
     return r;
 }
-
 
 std::vector<StudyRow> runConvergenceStudy(const StandardTestOptions& base,
                                           const std::vector<int>& sizes,

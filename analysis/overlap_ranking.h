@@ -24,7 +24,7 @@ constexpr int kStandardPrimitiveCount = 3;
 extern const std::array<const char*, kStandardPrimitiveCount> kStandardPrimitiveNames;
 
 struct StandardTestOptions {
-    int size = 256;         // lattice side m = n
+    int size = 256;            // lattice side m = n
     int samplesPerPixel = 16;  // s² jittered samples (16 → 4×4)
     double threshold = kFluxThreshold;
     uint64_t seed = kStandardTestSeed;
@@ -88,17 +88,16 @@ struct RankAgreement {
 };
 RankAgreement compareRankings(const std::vector<double>& x, const std::vector<double>& y);
 
-
 // Convergence study (benchmark and `lobe overlap --study`): the test at every lattice size ×
 // samples-per-pixel combination, each compared with the largest of both (the reference).
 struct StudyRow {
     int size = 0;
     int samplesPerPixel = 0;
-    double seconds = 0.0;         // render + metric wall time
-    double cpuSeconds = 0.0;      // the same in CPU time of all threads (robust to other jobs)
-    double maxRelChange = 0.0;    // max over pairs |score − ref| / ref
-    double meanRelChange = 0.0;   // mean over pairs of the same
-    RankAgreement agreement;      // of the pair scores with the reference's
+    double seconds = 0.0;        // render + metric wall time
+    double cpuSeconds = 0.0;     // the same in CPU time of all threads (robust to other jobs)
+    double maxRelChange = 0.0;   // max over pairs |score − ref| / ref
+    double meanRelChange = 0.0;  // mean over pairs of the same
+    RankAgreement agreement;     // of the pair scores with the reference's
     bool sameBest = false, sameWorst = false;
 };
 std::vector<StudyRow> runConvergenceStudy(const StandardTestOptions& base,

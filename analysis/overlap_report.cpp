@@ -43,8 +43,7 @@ std::array<double, 3> viridis(double x) {
     const int i = std::min(3, int(x));
     const double f = x - i;
     std::array<double, 3> out;
-    for (int c = 0; c < 3; ++c)
-        out[c] = srgbDecode(stops[i][c] * (1.0 - f) + stops[i + 1][c] * f);
+    for (int c = 0; c < 3; ++c) out[c] = srgbDecode(stops[i][c] * (1.0 - f) + stops[i + 1][c] * f);
     return out;
 }
 
@@ -61,10 +60,10 @@ std::vector<float> lobeIntensity(const LatticeSet& set, int model, int primitive
     std::vector<float> v(n, 0.0f);
     std::vector<float> lit;
     for (size_t i = 0; i < n; ++i) {
-        const double mean = (double(set.lattice(model, primitive, 0)[i]) +
-                             set.lattice(model, primitive, 1)[i] +
-                             set.lattice(model, primitive, 2)[i]) /
-                            3.0;
+        const double mean =
+            (double(set.lattice(model, primitive, 0)[i]) + set.lattice(model, primitive, 1)[i] +
+             set.lattice(model, primitive, 2)[i]) /
+            3.0;
         if (mean > threshold) {
             v[i] = float(mean);
             lit.push_back(float(mean));
@@ -126,7 +125,8 @@ RgbImage overlapHeatmap(const std::vector<PairScore>& pairs,
         }
     }
     std::vector<double> grid(size_t(n) * n, -1.0);
-    for (const PairScore& p : pairs) grid[size_t(p.a) * n + p.b] = grid[size_t(p.b) * n + p.a] = p.score;
+    for (const PairScore& p : pairs)
+        grid[size_t(p.a) * n + p.b] = grid[size_t(p.b) * n + p.a] = p.score;
     const std::array<float, 3> black{0.0f, 0.0f, 0.0f}, white{1.0f, 1.0f, 1.0f};
     for (int r = 0; r < n; ++r) {
         drawText(img, 8, kTop + r * kCell + kCell / 2 + 6, std::to_string(r + 1) + " " + models[r],
@@ -158,8 +158,8 @@ RgbImage overlapHeatmap(const std::vector<PairScore>& pairs,
 RgbImage lobeImage(const LatticeSet& set, int modelA, int modelB, double threshold) {
     const int s = set.size;
     constexpr int kHeader = 28, kGap = 4;
-    RgbImage img(3 * s + 2 * kGap, kHeader + kStandardPrimitiveCount * s +
-                                       (kStandardPrimitiveCount - 1) * kGap);
+    RgbImage img(3 * s + 2 * kGap,
+                 kHeader + kStandardPrimitiveCount * s + (kStandardPrimitiveCount - 1) * kGap);
     for (int p = 0; p < kStandardPrimitiveCount; ++p) {
         const std::vector<float> a = lobeIntensity(set, modelA, p, threshold);
         const std::vector<float> b = lobeIntensity(set, modelB, p, threshold);
@@ -187,8 +187,8 @@ std::string studyMarkdown(const std::vector<StudyRow>& rows) {
     for (const StudyRow& r : rows) {
         out += "| " + std::to_string(r.size) + "² | " + std::to_string(r.samplesPerPixel) + " | " +
                fmt("%.2f", r.seconds) + " | " + fmt("%.2f", r.cpuSeconds) + " | " +
-               fmt("%.2e", r.meanRelChange) + " | " +
-               fmt("%.2e", r.maxRelChange) + " | " + fmt("%.4f", r.agreement.kendallTau) + " | " +
+               fmt("%.2e", r.meanRelChange) + " | " + fmt("%.2e", r.maxRelChange) + " | " +
+               fmt("%.4f", r.agreement.kendallTau) + " | " +
                std::to_string(r.agreement.discordant) + " / " +
                std::to_string(r.agreement.comparable) + " | " + (r.sameBest ? "yes" : "no") +
                " | " + (r.sameWorst ? "yes" : "no") + " |\n";

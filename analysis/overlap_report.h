@@ -24,7 +24,8 @@ std::string overlapMarkdown(const std::vector<PairScore>& pairs, const std::stri
 
 // n×n heat map of the pair scores (symmetric; the diagonal is grey, a model is not paired with
 // itself), with row names, column numbers and each cell's score.
-RgbImage overlapHeatmap(const std::vector<PairScore>& pairs, const std::vector<std::string>& models);
+RgbImage overlapHeatmap(const std::vector<PairScore>& pairs,
+                        const std::vector<std::string>& models);
 
 // Rows: the three primitives; columns: A (red), B (green), both (red + green = yellow where the
 // lobes overlap). Each lattice is the band mean, pixels ≤ threshold black, scaled by its own 99th
@@ -44,10 +45,9 @@ struct OverlapReportFiles {
 
 // Writes overlap.csv, overlap.md, overlap-heatmap.png and lobes/<a>_vs_<b>.png for the best and
 // the worst pair and each of `extraPairs` (model names) into `outDir` (created if missing).
-OverlapReportFiles writeOverlapReport(const std::string& outDir, const LatticeSet& lattices,
-                                      const std::vector<PairScore>& pairs,
-                                      const std::vector<std::pair<std::string, std::string>>& extraPairs,
-                                      double threshold, OverlapVariant variant,
-                                      const std::string& settingsLine);
+OverlapReportFiles writeOverlapReport(
+    const std::string& outDir, const LatticeSet& lattices, const std::vector<PairScore>& pairs,
+    const std::vector<std::pair<std::string, std::string>>& extraPairs, double threshold,
+    OverlapVariant variant, const std::string& settingsLine);
 
 }  // namespace lobe

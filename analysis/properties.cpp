@@ -11,9 +11,9 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <limits>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace lobe {
 namespace {
@@ -197,8 +197,8 @@ SpectrumEstimate directionalAlbedo(const Brdf& brdf, double thetaI, double phiI,
     const Frame frameR = Frame::fromNormal(mirrorLocal(wi));
     // A third of each replica's samples per component, at least one.
     // (--samples is bounded, so a component's count fits the strata's int.)
-    const int perComponent = int(std::clamp<int64_t>(samples / (3 * int64_t(replicas)), 1,
-                                                     std::numeric_limits<int>::max()));
+    const int perComponent = int(
+        std::clamp<int64_t>(samples / (3 * int64_t(replicas)), 1, std::numeric_limits<int>::max()));
     const StrataGrid grid = strataFor(perComponent);
     const auto pdfSum = [&](const Vec3& w) {
         return cosinePdf(w) + mirrorPdf(frameR.n, w) + halfVectorPdf(wi, w);
@@ -245,15 +245,15 @@ double reciprocityError(const Brdf& brdf, int64_t pairs, uint64_t seed) {
 }
 
 double anisotropyMeasure(const Brdf& brdf, int64_t pairs, uint64_t seed) {
-    return relativeAsymmetry(brdf, pairs, seed ^ 0xa5a5, [&](const Vec3& wi, const Vec3& wo,
-                                                             Rng& rng) {
-        const double psi = 2.0 * kPi * rng.uniform();
-        const double c = std::cos(psi), s = std::sin(psi);
-        const auto rotate = [&](const Vec3& w) {
-            return Vec3(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
-        };
-        return evalBrdf(brdf, rotate(wi), rotate(wo));
-    });
+    return relativeAsymmetry(brdf, pairs, seed ^ 0xa5a5,
+                             [&](const Vec3& wi, const Vec3& wo, Rng& rng) {
+                                 const double psi = 2.0 * kPi * rng.uniform();
+                                 const double c = std::cos(psi), s = std::sin(psi);
+                                 const auto rotate = [&](const Vec3& w) {
+                                     return Vec3(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
+                                 };
+                                 return evalBrdf(brdf, rotate(wi), rotate(wo));
+                             });
 }
 
 std::vector<ModelSetting> propertySettings() {
@@ -261,7 +261,8 @@ std::vector<ModelSetting> propertySettings() {
     for (const BrdfModelInfo& model : brdfModels()) {
         out.push_back({model.name, "defaults", {}});
         for (const SweepEntry& e : sweepTable())
-            if (model.name == e.model) out.push_back({e.model, joinSettings(e.settings), e.settings});
+            if (model.name == e.model)
+                out.push_back({e.model, joinSettings(e.settings), e.settings});
     }
     return out;
 }
@@ -269,11 +270,12 @@ std::vector<ModelSetting> propertySettings() {
 double sampleScale(const std::string& model) {
     // Costly models (BrdfFlags): Poulin–Fournier integrates a profile per evaluation
     // (Gauss–Kronrod on pieces of the arc) and He–Torrance sums a series and solves for z0 by
-    // Newton per evaluation: both count 1/4 of the samples. Checked with all nine models registered (docs/brdf-properties.md, "The sweep"): on
-    // the albedo estimator's directions PF costs ~2–3 µs and HT 2.3–9.6 µs (growing with σ0/λ)
-    // per evaluation, against ~0.3 µs per sample for a closed-form model, so one of their settings
-    // costs ~1–9× a closed-form one and `lobe brdf props` at its defaults stays at a few seconds.
-    // (PF was at 1/32 while it cost 12–15 µs per evaluation, before commit 05eae7f.)
+    // Newton per evaluation: both count 1/4 of the samples. Checked with all nine models registered
+    // (docs/brdf-properties.md, "The sweep"): on the albedo estimator's directions PF costs ~2–3 µs
+    // and HT 2.3–9.6 µs (growing with σ0/λ) per evaluation, against ~0.3 µs per sample for a
+    // closed-form model, so one of their settings costs ~1–9× a closed-form one and `lobe brdf
+    // props` at its defaults stays at a few seconds. (PF was at 1/32 while it cost 12–15 µs per
+    // evaluation, before commit 05eae7f.)
     return findBrdfModel(model).flags.costly ? 1.0 / 4.0 : 1.0;
 }
 
@@ -339,9 +341,9 @@ PropertyReport measureProperties(const ModelSetting& setting, const PropertyOpti
     report.energyConserving =
         report.maxAlbedo.value <= 1.0 + kSigmaThreshold * report.maxAlbedo.stdError;
     report.plausible = report.reciprocal && report.energyConserving;
-    report.fresnel = a80.value - a0.value >
-                     kSigmaThreshold * std::sqrt(a0.stdError * a0.stdError +
-                                                 a80.stdError * a80.stdError);
+    report.fresnel =
+        a80.value - a0.value >
+        kSigmaThreshold * std::sqrt(a0.stdError * a0.stdError + a80.stdError * a80.stdError);
     return report;
 }
 

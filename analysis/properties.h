@@ -7,7 +7,8 @@
 //   directional albedo a(θi) = ∫ f(wi,wo) cos θo dωo, by stratified multi-sample importance
 //                      sampling with a standard error from independent replicas;
 //   anisotropy         max |f(R wi, R wo) − f(wi, wo)| / max f for random rotations R about n;
-//   Fresnel behaviour  a(80°) > a(0°);   physically plausible = reciprocal and a(θi) ≤ 1 for all θi.
+//   Fresnel behaviour  a(80°) > a(0°);   physically plausible = reciprocal and a(θi) ≤ 1 for all
+//   θi.
 //
 // Everything is deterministic for a given seed and independent of the thread count.
 #pragma once
@@ -101,12 +102,12 @@ struct PropertyReport {
     std::vector<Estimate> albedo;  // per albedoThetasDeg(), max over φi and bands
     Estimate maxAlbedo;            // max over θi
     double thetaAtMaxDeg = 0.0;
-    Estimate albedoRatio80To0;     // a(80°)/a(0°) (value 0 if a(0°) = 0)
+    Estimate albedoRatio80To0;  // a(80°)/a(0°) (value 0 if a(0°) = 0)
     bool reciprocal = false;
     bool energyConserving = false;  // max a(θi) ≤ 1 + kSigmaThreshold·σ
     bool plausible = false;         // reciprocal && energyConserving
     bool anisotropic = false;
-    bool fresnel = false;           // a(80°) − a(0°) > kSigmaThreshold·σ
+    bool fresnel = false;  // a(80°) − a(0°) > kSigmaThreshold·σ
 };
 
 // Measures one setting (parallel inside, via TBB). Throws lobe::Error for a bad setting.

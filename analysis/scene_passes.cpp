@@ -33,7 +33,8 @@ SeparationLayers fixedLayers(const SceneSpec& spec, const AovImage& a) {
         std::vector<float> lambert(3 * n), depth(n, 0.0f);
         for (size_t p = 0; p < n; ++p) {
             putRgb(lambert, p, a.lambertAt(p, o), spec.exposure);
-            if (!a.objectDepth.empty()) depth[p] = a.objectDepth[p * size_t(a.objectCount) + size_t(o)];
+            if (!a.objectDepth.empty())
+                depth[p] = a.objectDepth[p * size_t(a.objectCount) + size_t(o)];
         }
         l.lambert.push_back(std::move(lambert));
         if (!a.objectDepth.empty()) l.depth.push_back(std::move(depth));
@@ -113,7 +114,8 @@ AssignmentLayers assignmentLayers(const SceneSpec& spec, const AovImage& a,
     for (int o = 0; o < a.objectCount; ++o)
         for (size_t c = 0; c < m; ++c) {
             std::vector<float> layer(3 * n);
-            for (size_t p = 0; p < n; ++p) putRgb(layer, p, a.modelSpecularAt(p, o, int(c)), spec.exposure);
+            for (size_t p = 0; p < n; ++p)
+                putRgb(layer, p, a.modelSpecularAt(p, o, int(c)), spec.exposure);
             l.specular.push_back(std::move(layer));
         }
     return l;

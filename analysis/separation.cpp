@@ -113,7 +113,8 @@ SeparationScorer::SeparationScorer(const SeparationLayers& l, double threshold,
             matteShare_[o] += w * w;
             // The object's own colour at the matte pixel's luminance, as displayed.
             const double s = yBase / y;
-            const Rgb3 own = srgbToLab({displayedShoulder(L[0] * s, shoulder), displayedShoulder(L[1] * s, shoulder),
+            const Rgb3 own = srgbToLab({displayedShoulder(L[0] * s, shoulder),
+                                        displayedShoulder(L[1] * s, shoulder),
                                         displayedShoulder(L[2] * s, shoulder)});
             const double c = std::hypot(own[1], own[2]);
             if (c >= kAchromaticChroma) {
@@ -142,8 +143,8 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
     const size_t pairs = k_ * (k_ - 1) / 2;
     std::vector<double> OA(pairs, 0.0), OB(pairs, 0.0), Oab(pairs, 0.0), Oba(pairs, 0.0);
     std::vector<int64_t> area(k_, 0), seen(k_, 0);
-    std::vector<double> contrastSum(k_, 0.0), shareSum(k_, 0.0), veilSum(k_, 0.0),
-        idSum(k_, 0.0), idWeight(k_, 0.0), chromaSum(k_, 0.0), lumSum(k_, 0.0);
+    std::vector<double> contrastSum(k_, 0.0), shareSum(k_, 0.0), veilSum(k_, 0.0), idSum(k_, 0.0),
+        idWeight(k_, 0.0), chromaSum(k_, 0.0), lumSum(k_, 0.0);
     std::vector<double> c(k_), ys(k_);
     for (size_t i = 0; i < n_; ++i) {
         // A pixel no object reaches and no highlight lights adds nothing to any sum (c = 0, w = 0).
@@ -167,7 +168,8 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
             const float* S = specular[o] + 3 * i;
             ys[o] = lum(S);
             if (itp) {  // detection map: the pixel with and without the object's specular pass
-                const Rgb3 off = {displayedShoulder(B[0] - S[0], shoulder), displayedShoulder(B[1] - S[1], shoulder),
+                const Rgb3 off = {displayedShoulder(B[0] - S[0], shoulder),
+                                  displayedShoulder(B[1] - S[1], shoulder),
                                   displayedShoulder(B[2] - S[2], shoulder)};
                 c[o] = deltaEItp(ictcp, srgbToIctcp(off, l.peakLuminance));
             } else {
@@ -297,7 +299,8 @@ std::string separationCsv(const SeparationReport& r, const std::vector<std::stri
                fmt("%.6g", v.specularShare) + "," + fmt("%.6g", v.meanSpecularContrast) + ",,," +
                fmt("%.6g", v.visibility) + "," + fmt("%.6g", v.matteVisibility) + "," +
                fmt("%.6g", v.veiling) + "," + (v.chromatic ? fmt("%.6g", v.identity) : "") + "," +
-               (v.chromatic ? fmt("%.6g", v.matteIdentity) : "") + "," + fmt("%.6g", v.chroma) + "," + fmt("%.6g", v.quality) + ",\n";
+               (v.chromatic ? fmt("%.6g", v.matteIdentity) : "") + "," + fmt("%.6g", v.chroma) +
+               "," + fmt("%.6g", v.quality) + ",\n";
     for (const PairSeparation& p : r.pairs)
         out += "pair," + objects[size_t(p.a)] + "," + objects[size_t(p.b)] + "," +
                fmt("%.6g", p.score) + ",,,," + std::to_string(p.metric.areaA) + "," +
@@ -318,9 +321,11 @@ std::string separationMarkdown(const SeparationReport& r, const std::vector<std:
         out += " (highlight term alone " + fmt("%.4g", r.highlight) +
                "); threshold: Weber contrast " + fmt("%.3g", r.threshold) +
                " (docs/separation.md).\n\n";
-    out += "| object | visibility V | matte V0 | veiling W | identity I | matte I0 | chroma C* | "
-           "quality q | highlight seen | mean highlight " +
-           std::string(itp ? "ΔE_ITP" : "contrast") + " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    out +=
+        "| object | visibility V | matte V0 | veiling W | identity I | matte I0 | chroma C* | "
+        "quality q | highlight seen | mean highlight " +
+        std::string(itp ? "ΔE_ITP" : "contrast") +
+        " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const ObjectVisibility& v : r.objects)
         out += "| " + v.name + " | " + fmt("%.3f", v.visibility) + " | " +
                fmt("%.3f", v.matteVisibility) + " | " + fmt("%.3f", v.veiling) + " | " +
@@ -329,8 +334,9 @@ std::string separationMarkdown(const SeparationReport& r, const std::vector<std:
                fmt("%.1f", v.chroma) + " | " + fmt("%.3f", v.quality) + " | " +
                fmt("%.1f %%", 100 * v.specularShare) + " | " + fmt("%.3f", v.meanSpecularContrast) +
                " |\n";
-    out += "\n| pair | score | highlight e | highlight pixels A | highlight pixels B |\n"
-           "|---|---:|---:|---:|---:|\n";
+    out +=
+        "\n| pair | score | highlight e | highlight pixels A | highlight pixels B |\n"
+        "|---|---:|---:|---:|---:|\n";
     for (const PairSeparation& p : r.pairs)
         out += "| " + objects[size_t(p.a)] + " / " + objects[size_t(p.b)] + " | " +
                fmt("%.4g", p.score) + " | " + fmt("%.4g", p.metric.eSum) + " | " +

@@ -60,26 +60,27 @@ struct SeparationLayers {
     // Per object: distance along the ray of its first event (0: not on this pixel's rays). Empty:
     // order unknown, no veiling measured.
     std::vector<std::vector<float>> depth;
-    std::vector<float> backdrop;  // rgb triples
-    std::string tone = "clip";    // the display's tone curve (core/rgb_image.h)
+    std::vector<float> backdrop;   // rgb triples
+    std::string tone = "clip";     // the display's tone curve (core/rgb_image.h)
     double peakLuminance = 100.0;  // cd/m² of display white (1, 1, 1), for ΔE_ITP
     size_t pixelCount() const { return size_t(width) * size_t(height); }
 };
 
 struct ObjectVisibility {
     std::string name;
-    double visibleShare = 0.0;   // share of the image where (L + S)/Y ≥ kWeberContrast
-    double specularShare = 0.0;  // share of the image where its highlight (S/Y, or ΔE_ITP) ≥ threshold
+    double visibleShare = 0.0;  // share of the image where (L + S)/Y ≥ kWeberContrast
+    double specularShare =
+        0.0;  // share of the image where its highlight (S/Y, or ΔE_ITP) ≥ threshold
     double meanSpecularContrast = 0.0;  // over the pixels of specularShare
-    double visibility = 0.0;       // V_o
-    double matteVisibility = 0.0;  // V0_o
-    double veiling = 0.0;          // W_o
-    double identity = 1.0;         // I_o
-    double matteIdentity = 1.0;    // I0_o
-    bool chromatic = false;        // own colour's chroma ≥ kAchromaticChroma somewhere it shows
-    double chroma = 0.0;           // mean CIELAB C* of the displayed pixels where it shows (w_o)
-    double quality = 0.0;          // q_o = min(1, V/V0) · (1 − W) · min(1, I/I0)
-    double meanLuminance = 0.0;    // mean Y of its own light L + S where it shows (w_o)
+    double visibility = 0.0;            // V_o
+    double matteVisibility = 0.0;       // V0_o
+    double veiling = 0.0;               // W_o
+    double identity = 1.0;              // I_o
+    double matteIdentity = 1.0;         // I0_o
+    bool chromatic = false;      // own colour's chroma ≥ kAchromaticChroma somewhere it shows
+    double chroma = 0.0;         // mean CIELAB C* of the displayed pixels where it shows (w_o)
+    double quality = 0.0;        // q_o = min(1, V/V0) · (1 − W) · min(1, I/I0)
+    double meanLuminance = 0.0;  // mean Y of its own light L + S where it shows (w_o)
 };
 
 struct PairSeparation {
@@ -93,8 +94,8 @@ struct SeparationReport {
     double threshold = kWeberContrast;
     std::vector<ObjectVisibility> objects;
     std::vector<PairSeparation> pairs;  // (0,1), (0,2), …, in object order
-    double highlight = 0.0;  // mean over pairs of e (the highlight term alone)
-    double score = 0.0;      // mean over pairs of PairSeparation::score (0 with < 2 objects)
+    double highlight = 0.0;             // mean over pairs of e (the highlight term alone)
+    double score = 0.0;  // mean over pairs of PairSeparation::score (0 with < 2 objects)
 };
 
 // Display-linear rgb of `layers`' beauty: Σ lambert + specular + backdrop.
@@ -124,11 +125,11 @@ private:
     double threshold_;
     SeparationMetric metric_;
     size_t n_ = 0, k_ = 0;
-    std::vector<float> base_;        // rgb: Σ lambert + backdrop
-    std::vector<float> lambertY_;    // [pixel · k + o]
-    std::vector<float> weight_;      // w_o: [pixel · k + o]
+    std::vector<float> base_;         // rgb: Σ lambert + backdrop
+    std::vector<float> lambertY_;     // [pixel · k + o]
+    std::vector<float> weight_;       // w_o: [pixel · k + o]
     std::vector<float> ownA_, ownB_;  // unit hue of the own colour; 0 where achromatic
-    std::vector<float> ownC_;        // own chroma at the matte luminance, 0 where achromatic
+    std::vector<float> ownC_;         // own chroma at the matte luminance, 0 where achromatic
     std::vector<double> weightSum_, matteShare_, matteIdentity_;
 };
 

@@ -25,7 +25,8 @@ double normalPdf(double x) { return kInvSqrt2Pi * std::exp(-0.5 * x * x); }
 double logNormalCdf(double x) {
     if (x > -30.0) return std::log(normalCdf(x));
     const double x2 = x * x;
-    return -0.5 * x2 - std::log(-x) - 0.5 * std::log(2.0 * M_PI) + std::log1p(-1.0 / x2 + 3.0 / (x2 * x2));
+    return -0.5 * x2 - std::log(-x) - 0.5 * std::log(2.0 * M_PI) +
+           std::log1p(-1.0 / x2 + 3.0 / (x2 * x2));
 }
 double millsRatio(double x) {
     if (x > -30.0) return normalPdf(x) / normalCdf(x);
@@ -124,7 +125,8 @@ PairCounts withPrior(const PairCounts& counts, double priorCount) {
     return w;
 }
 
-double jodLogLikelihood(const PairCounts& w, const std::vector<double>& q, std::vector<double>* gradient) {
+double jodLogLikelihood(const PairCounts& w, const std::vector<double>& q,
+                        std::vector<double>* gradient) {
     const double sigma = jodSigma();
     if (gradient) gradient->assign(size_t(w.n), 0.0);
     double sum = 0.0;
@@ -147,8 +149,9 @@ std::vector<double> scaleJod(const PairCounts& counts, double priorCount) {
     const int n = counts.n;
     if (n < 1) throw Error("JOD scaling: no conditions");
     if (!connected(counts))
-        throw Error("JOD scaling: the compared pairs do not connect every condition, so their "
-                    "qualities cannot be put on one scale");
+        throw Error(
+            "JOD scaling: the compared pairs do not connect every condition, so their "
+            "qualities cannot be put on one scale");
     const PairCounts w = withPrior(counts, priorCount);
     const double sigma = jodSigma();
     std::vector<double> q(size_t(n), 0.0);
@@ -220,7 +223,8 @@ JodScale scaleJodWithIntervals(const std::vector<PairCounts>& observers, int boo
     for (int b = 0; b < bootstrapSamples; ++b) {
         PairCounts sample(n);
         for (uint32_t k = 0; k < count; ++k)
-            sample += observers[size_t(std::min<uint32_t>(count - 1, uint32_t(rng.uniform() * count)))];
+            sample +=
+                observers[size_t(std::min<uint32_t>(count - 1, uint32_t(rng.uniform() * count)))];
         std::vector<double> q;
         try {
             q = scaleJod(sample, priorCount);
@@ -283,14 +287,16 @@ StudyAnswers parseStudyAnswers(const std::string& text, const std::string& path)
         return obj.at(key);
     };
     if (!doc.is_object() || doc.value("format", "") != "lobe-study-answers-1")
-        throw Error(path + ": not a lobe study answers file (expected \"format\": "
-                           "\"lobe-study-answers-1\")");
+        throw Error(path +
+                    ": not a lobe study answers file (expected \"format\": "
+                    "\"lobe-study-answers-1\")");
     StudyAnswers a;
     a.path = path;
     try {
         a.study = need(doc, "study", "the study's fingerprint").get<std::string>();
         a.participant = need(doc, "participant", "a participant id").get<std::string>();
-        a.conditions = need(doc, "conditions", "a list of condition names").get<std::vector<std::string>>();
+        a.conditions =
+            need(doc, "conditions", "a list of condition names").get<std::vector<std::string>>();
         const json& trials = need(doc, "trials", "a list of trials");
         if (!trials.is_array()) throw Error(path + ": 'trials' must be a list");
         const int n = int(a.conditions.size());
@@ -302,7 +308,8 @@ StudyAnswers parseStudyAnswers(const std::string& text, const std::string& path)
             return c;
         };
         for (const json& t : trials) {
-            const std::string kind = need(t, "kind", "pair, marker or attention").get<std::string>();
+            const std::string kind =
+                need(t, "kind", "pair, marker or attention").get<std::string>();
             if (kind == "pair") {
                 StudyAnswers::Pair p;
                 p.a = condition(t, "a");
@@ -318,10 +325,12 @@ StudyAnswers parseStudyAnswers(const std::string& text, const std::string& path)
                 m.answer = need(t, "answer", "the object named").get<std::string>();
                 a.markers.push_back(m);
             } else if (kind == "attention") {
-                a.attention.push_back({need(t, "instructed", "the instructed answer").get<std::string>(),
-                                       need(t, "answer", "the answer given").get<std::string>()});
+                a.attention.push_back(
+                    {need(t, "instructed", "the instructed answer").get<std::string>(),
+                     need(t, "answer", "the answer given").get<std::string>()});
             } else {
-                throw Error(path + ": unknown trial kind '" + kind + "' (expected pair, marker or attention)");
+                throw Error(path + ": unknown trial kind '" + kind +
+                            "' (expected pair, marker or attention)");
             }
         }
     } catch (const json::exception& e) {
@@ -330,7 +339,8 @@ StudyAnswers parseStudyAnswers(const std::string& text, const std::string& path)
     return a;
 }
 
-StudyAnalysis analyseStudy(const std::vector<StudyAnswers>& answers, const StudyAnalysisOptions& options) {
+StudyAnalysis analyseStudy(const std::vector<StudyAnswers>& answers,
+                           const StudyAnalysisOptions& options) {
     if (answers.empty()) throw Error("no answers files given");
     StudyAnalysis r;
     r.conditions = answers.front().conditions;
@@ -343,16 +353,19 @@ StudyAnalysis analyseStudy(const std::vector<StudyAnswers>& answers, const Study
             throw Error(a.path + ": answers of another study than " + answers.front().path +
                         " (fingerprint " + a.study + " against " + answers.front().study + ")");
         if (!seen.insert(a.participant).second)
-            throw Error(a.path + ": participant '" + a.participant + "' appears in two answers files");
+            throw Error(a.path + ": participant '" + a.participant +
+                        "' appears in two answers files");
         const int failed = a.failedChecks();
         if (failed > options.maxFailedChecks) {
-            r.excluded.push_back(a.participant + " (" + a.path + "): failed " + std::to_string(failed) +
-                                 " of " + std::to_string(a.attention.size()) + " attention checks");
+            r.excluded.push_back(a.participant + " (" + a.path + "): failed " +
+                                 std::to_string(failed) + " of " +
+                                 std::to_string(a.attention.size()) + " attention checks");
             continue;
         }
         r.included.push_back(a.participant);
         PairCounts c(n);
-        for (const StudyAnswers::Pair& p : a.pairs) c.at(p.chosen, p.chosen == p.a ? p.b : p.a) += 1;
+        for (const StudyAnswers::Pair& p : a.pairs)
+            c.at(p.chosen, p.chosen == p.a ? p.b : p.a) += 1;
         r.pairTrials += int(a.pairs.size());
         if (!a.pairs.empty()) observers.push_back(c);
         for (const StudyAnswers::Marker& m : a.markers) {
@@ -361,10 +374,11 @@ StudyAnalysis analyseStudy(const std::vector<StudyAnswers>& answers, const Study
         }
     }
     if (!observers.empty())
-        r.jod = scaleJodWithIntervals(observers, options.bootstrapSamples, options.seed, options.level,
-                                      options.priorCount);
+        r.jod = scaleJodWithIntervals(observers, options.bootstrapSamples, options.seed,
+                                      options.level, options.priorCount);
     for (int i = 0; i < n; ++i)
-        r.markerAccuracy.push_back(wilsonInterval(correct[size_t(i)], total[size_t(i)], options.level));
+        r.markerAccuracy.push_back(
+            wilsonInterval(correct[size_t(i)], total[size_t(i)], options.level));
     return r;
 }
 
@@ -376,7 +390,8 @@ MarkerSpot highlightMarker(const std::vector<std::vector<float>>& specular, int 
         double sum = 0.0;
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
-                const int u = std::clamp(x + dx, 0, width - 1), v = std::clamp(y + dy, 0, height - 1);
+                const int u = std::clamp(x + dx, 0, width - 1),
+                          v = std::clamp(y + dy, 0, height - 1);
                 sum += double(layer[size_t(v) * size_t(width) + size_t(u)]);
             }
         return sum;
@@ -402,8 +417,8 @@ std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedOb
     const json& conditions = study.at("conditions");
     const size_t n = conditions.size();
     if (model.jod.size() != n)
-        throw Error("simulated observers: " + std::to_string(model.jod.size()) + " JOD values for " +
-                    std::to_string(n) + " conditions");
+        throw Error("simulated observers: " + std::to_string(model.jod.size()) +
+                    " JOD values for " + std::to_string(n) + " conditions");
     Rng rng(mixBits(seed ^ mixBits(uint64_t(observer) + 1)), 0x0b5e);
     const double sigma = jodSigma();
     json out;
@@ -423,7 +438,8 @@ std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedOb
             a["chosen"] = rng.uniform() < p ? i : j;
         } else if (kind == "marker") {
             const int c = t.at("condition");
-            const double accuracy = c < int(model.markerAccuracy.size()) ? model.markerAccuracy[size_t(c)] : 1.0;
+            const double accuracy =
+                c < int(model.markerAccuracy.size()) ? model.markerAccuracy[size_t(c)] : 1.0;
             const std::string right = t.at("object");
             std::vector<std::string> wrong;
             for (const json& o : t.at("options"))
@@ -431,7 +447,8 @@ std::string simulateStudyAnswers(const std::string& studyJson, const SimulatedOb
             if (rng.uniform() < accuracy || wrong.empty())
                 a["answer"] = right;
             else
-                a["answer"] = wrong[std::min(wrong.size() - 1, size_t(rng.uniform() * double(wrong.size())))];
+                a["answer"] =
+                    wrong[std::min(wrong.size() - 1, size_t(rng.uniform() * double(wrong.size())))];
         } else if (kind == "attention") {
             const std::string instructed = t.at("instructed");
             std::string other = "left";

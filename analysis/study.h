@@ -9,8 +9,8 @@
 //   P(i chosen over j) = Φ((q_i − q_j) / σ),   σ = 1 / Φ⁻¹(0.75) ≈ 1.4826,
 // so that a difference of 1 JOD means 75 % of the choices go to the better condition. The
 // qualities q maximise  L(q) = Σ_{i≠j} w_ij · log Φ((q_i − q_j) / σ)  with q_0 = 0 fixed, where
-// w_ij = c_ij (times i was chosen over j) plus the prior below. L is concave (log Φ is), so Newton's
-// method with a backtracking line search finds the maximum.
+// w_ij = c_ij (times i was chosen over j) plus the prior below. L is concave (log Φ is), so
+// Newton's method with a backtracking line search finds the maximum.
 //
 // Prior (ours, weak): a pair compared only one way — every observer chose the same side, so the
 // ML difference is infinite — gets half a pseudo-choice each way, w_ij = c_ij + ½ and
@@ -49,7 +49,8 @@ double jodSigma();
 struct PairCounts {
     int n = 0;
     std::vector<double> c;  // row-major n × n
-    explicit PairCounts(int conditions = 0) : n(conditions), c(size_t(conditions) * size_t(conditions), 0.0) {}
+    explicit PairCounts(int conditions = 0)
+        : n(conditions), c(size_t(conditions) * size_t(conditions), 0.0) {}
     double& at(int i, int j) { return c[size_t(i) * size_t(n) + size_t(j)]; }
     double at(int i, int j) const { return c[size_t(i) * size_t(n) + size_t(j)]; }
     PairCounts& operator+=(const PairCounts& o);
@@ -110,10 +111,10 @@ StudyAnswers parseStudyAnswers(const std::string& text, const std::string& path)
 
 struct StudyAnalysis {
     std::vector<std::string> conditions;
-    std::vector<std::string> included;  // participants analysed
-    std::vector<std::string> excluded;  // "participant (file): failed k of n attention checks"
-    int pairTrials = 0;                 // of the included observers
-    JodScale jod;                       // empty q when the study had no pair trials
+    std::vector<std::string> included;       // participants analysed
+    std::vector<std::string> excluded;       // "participant (file): failed k of n attention checks"
+    int pairTrials = 0;                      // of the included observers
+    JodScale jod;                            // empty q when the study had no pair trials
     std::vector<Proportion> markerAccuracy;  // per condition (trials 0 when none)
 };
 struct StudyAnalysisOptions {

@@ -45,7 +45,8 @@ void drawPanel(RgbImage& img, const Axis& axis, int top, int rows, int rowHeight
         const int x = axis.at(v);
         const double grey = std::fabs(v - reference) < 1e-9 ? 0.45 : 0.85;
         fillRect(img, x, top - 6, x + 1, bottom, {grey, grey, grey});
-        drawText(img, x, bottom + 18, fmt(tickFormat, std::fabs(v) < 1e-12 ? 0.0 : v), 12, black, true);
+        drawText(img, x, bottom + 18, fmt(tickFormat, std::fabs(v) < 1e-12 ? 0.0 : v), 12, black,
+                 true);
     }
     fillRect(img, axis.x0, bottom, axis.x1, bottom + 1, {0.0, 0.0, 0.0});
 }
@@ -69,7 +70,8 @@ std::string studyMarkdown(const StudyAnalysis& a, const std::vector<std::string>
           " excluded for failed attention checks.\n\n";
     md += "| condition |";
     if (hasJod(a)) md += " JOD | " + std::to_string(percent) + " % interval |";
-    if (hasMarkers(a)) md += " marker task correct | accuracy | " + std::to_string(percent) + " % interval |";
+    if (hasMarkers(a))
+        md += " marker task correct | accuracy | " + std::to_string(percent) + " % interval |";
     md += "\n|---|";
     if (hasJod(a)) md += "---:|---|";
     if (hasMarkers(a)) md += "---:|---:|---|";
@@ -84,20 +86,25 @@ std::string studyMarkdown(const StudyAnalysis& a, const std::vector<std::string>
             if (p.trials == 0)
                 md += " 0 of 0 | – | – |";
             else
-                md += " " + std::to_string(p.successes) + " of " + std::to_string(p.trials) + " | " +
-                      fmt("%.2f", p.p) + " | [" + fmt("%.2f", p.low) + ", " + fmt("%.2f", p.high) + "] |";
+                md += " " + std::to_string(p.successes) + " of " + std::to_string(p.trials) +
+                      " | " + fmt("%.2f", p.p) + " | [" + fmt("%.2f", p.low) + ", " +
+                      fmt("%.2f", p.high) + "] |";
         }
         md += "\n";
     }
     md += "\n";
     if (hasJod(a))
-        md += "JOD: Thurstone case V maximum-likelihood scaling of " + std::to_string(a.pairTrials) +
+        md += "JOD: Thurstone case V maximum-likelihood scaling of " +
+              std::to_string(a.pairTrials) +
               " paired comparisons (1 JOD: 75 % choose the better condition), relative to " +
-              a.conditions.front() + " (0); higher means chosen more often. Intervals: percentile "
-              "bootstrap over participants, " + std::to_string(a.jod.samples) + " resamples.\n";
+              a.conditions.front() +
+              " (0); higher means chosen more often. Intervals: percentile "
+              "bootstrap over participants, " +
+              std::to_string(a.jod.samples) + " resamples.\n";
     if (hasMarkers(a))
-        md += "Marker task: share of trials naming the object whose highlight the marker is on; "
-              "Wilson score intervals.\n";
+        md +=
+            "Marker task: share of trials naming the object whose highlight the marker is on; "
+            "Wilson score intervals.\n";
     md += "\nAnswers files:\n";
     for (const std::string& f : inputs) md += "- " + f + "\n";
     if (!a.excluded.empty()) {
@@ -108,8 +115,9 @@ std::string studyMarkdown(const StudyAnalysis& a, const std::vector<std::string>
 }
 
 std::string studyCsv(const StudyAnalysis& a) {
-    std::string csv = "condition,jod,jod_low,jod_high,marker_correct,marker_trials,marker_accuracy,"
-                      "marker_low,marker_high\n";
+    std::string csv =
+        "condition,jod,jod_low,jod_high,marker_correct,marker_trials,marker_accuracy,"
+        "marker_low,marker_high\n";
     for (size_t i = 0; i < a.conditions.size(); ++i) {
         std::string name = a.conditions[i];
         if (name.find_first_of(",\"") != std::string::npos) {
@@ -123,8 +131,9 @@ std::string studyCsv(const StudyAnalysis& a) {
                          : ",,,";
         const Proportion& p = a.markerAccuracy[i];
         csv += std::to_string(p.successes) + "," + std::to_string(p.trials) + ",";
-        csv += p.trials > 0 ? fmt("%.6f", p.p) + "," + fmt("%.6f", p.low) + "," + fmt("%.6f", p.high)
-                            : ",,";
+        csv += p.trials > 0
+                   ? fmt("%.6f", p.p) + "," + fmt("%.6f", p.low) + "," + fmt("%.6f", p.high)
+                   : ",,";
         csv += "\n";
     }
     return csv;
@@ -139,7 +148,8 @@ RgbImage studyPlot(const StudyAnalysis& a) {
     fillRect(img, 0, 0, img.width, img.height, {1.0, 1.0, 1.0});
     const std::array<float, 3> black{0.0f, 0.0f, 0.0f};
     for (int i = 0; i < rows; ++i)
-        drawText(img, 10, top + i * rowHeight + rowHeight / 2 + 5, a.conditions[size_t(i)], 14, black);
+        drawText(img, 10, top + i * rowHeight + rowHeight / 2 + 5, a.conditions[size_t(i)], 14,
+                 black);
     int x = labelWidth;
     const int percent = int(std::lround(a.jod.level * 100));
     if (jod) {

@@ -7,10 +7,10 @@
 // BEST.json's folder) and BEST-assign.md (the ranked table, the scene's own assignment and its
 // rank). Objects can be kept (--keep NAME) and models excluded (--exclude MODEL); --tune adds the
 // documented parameter variants of every model (analysis/properties.h) as candidates.
-#include "apps/commands.h"
-#include "apps/scene_overrides.h"
 #include "analysis/overlap_report.h"
 #include "analysis/scene_passes.h"
+#include "apps/commands.h"
+#include "apps/scene_overrides.h"
 #include "core/error.h"
 #include "materials/registry.h"
 #include "render/render_scene.h"
@@ -39,9 +39,9 @@ struct AssignCommand {
     bool force = false;
     bool quiet = false;
     bool distinct = false;
-    std::string equalAlbedo;   // the albedo at normal incidence ("" with the flag alone: 0.1)
+    std::string equalAlbedo;  // the albedo at normal incidence ("" with the flag alone: 0.1)
     CLI::Option* equalAlbedoOption = nullptr;
-    double keepFraction = 0.8;  // least visibility and chroma against the input's (0: no bound)
+    double keepFraction = 0.8;    // least visibility and chroma against the input's (0: no bound)
     double brightnessBand = 0.0;  // > 1: each object's mean luminance within [1/b, b] × the input's
     std::string metric = "weber";
     int top = 10;
@@ -71,10 +71,12 @@ std::string assignedTitle(const SceneSpec& spec, const std::vector<BrdfCandidate
                           const std::vector<int>& chosen) {
     std::string t = "assign: ";
     for (size_t o = 0; o < spec.objects.size(); ++o)
-        t += (o ? " / " : "") + spec.objects[o].name + " " + modelTitle(candidates[size_t(chosen[o])]);
+        t += (o ? " / " : "") + spec.objects[o].name + " " +
+             modelTitle(candidates[size_t(chosen[o])]);
     return t;
 }
-std::string assignedGroup(const std::vector<BrdfCandidate>& candidates, const std::vector<int>& chosen) {
+std::string assignedGroup(const std::vector<BrdfCandidate>& candidates,
+                          const std::vector<int>& chosen) {
     std::string g = "assign";
     std::set<std::string> seen;
     for (int c : chosen) {
@@ -101,8 +103,10 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
         // A segmentation's labels (docs/scene-format.md, "Labels") are one JSON object: their
         // choices go into its "overrides", keyed by the label's name (or number).
         const std::string& seg = spec.objects[o].segmentation;
-        const size_t index = seg.empty() ? next++ : size_t(std::stoul(seg.substr(seg.find('[') + 1)));
-        if (!seg.empty() && (o + 1 == spec.objects.size() || spec.objects[o + 1].segmentation != seg))
+        const size_t index =
+            seg.empty() ? next++ : size_t(std::stoul(seg.substr(seg.find('[') + 1)));
+        if (!seg.empty() &&
+            (o + 1 == spec.objects.size() || spec.objects[o + 1].segmentation != seg))
             next = index + 1;
         nlohmann::json& object = j["objects"][index];
         const VolumeSourceSpec& source = spec.objects[o].source;
@@ -127,7 +131,8 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
             // The label's key: an existing override's (by name or number), else its name.
             const std::string prefix = object.value("name", std::string());
             std::string name = spec.objects[o].name;
-            if (!prefix.empty() && name.rfind(prefix + ": ", 0) == 0) name = name.substr(prefix.size() + 2);
+            if (!prefix.empty() && name.rfind(prefix + ": ", 0) == 0)
+                name = name.substr(prefix.size() + 2);
             std::string key = name;
             const std::string number = std::to_string(source.labels.front());
             if (object.contains("overrides") && object["overrides"].contains(number)) key = number;
@@ -143,7 +148,8 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
             } else {
                 nlohmann::json bands = nlohmann::json::array();
                 size_t start = 0;
-                for (size_t comma; (comma = value.find(',', start)) != std::string::npos; start = comma + 1)
+                for (size_t comma; (comma = value.find(',', start)) != std::string::npos;
+                     start = comma + 1)
                     bands.push_back(std::stod(value.substr(start, comma - start)));
                 bands.push_back(std::stod(value.substr(start)));
                 brdf[kv.substr(0, eq)] = bands;
@@ -175,11 +181,13 @@ void runAssign(AssignCommand& cmd) {
             albedo = -1.0;
         }
         if (!(albedo > 0.0 && albedo <= 1.0))
-            throw Error("--equal-albedo: expected an albedo in (0, 1], got '" + cmd.equalAlbedo + "'");
+            throw Error("--equal-albedo: expected an albedo in (0, 1], got '" + cmd.equalAlbedo +
+                        "'");
     }
     const SeparationMetric metric = parseSeparationMetric(cmd.metric);
     const fs::path out(cmd.out);
-    if (out.extension() != ".json") throw Error("--out: expected a .json scene file, got '" + cmd.out + "'");
+    if (out.extension() != ".json")
+        throw Error("--out: expected a .json scene file, got '" + cmd.out + "'");
     const std::string report = (out.parent_path() / (out.stem().string() + "-assign.md")).string();
     if (!cmd.force)
         for (const std::string& p : {cmd.out, report})
@@ -214,7 +222,9 @@ void runAssign(AssignCommand& cmd) {
             if (spec.objects[i].name == name) {
                 found = true;
                 kept[i] = true;
-                BrdfCandidate own{spec.objects[i].brdfModel, {}, spec.objects[i].material.specular,
+                BrdfCandidate own{spec.objects[i].brdfModel,
+                                  {},
+                                  spec.objects[i].material.specular,
                                   "(" + name + " as in the scene)"};
                 own.scale = spec.objects[i].material.specularScale;
                 fixed[i] = int(candidates.size());
@@ -223,7 +233,8 @@ void runAssign(AssignCommand& cmd) {
             }
         if (!found) {
             std::string names;
-            for (const ObjectSpec& obj : spec.objects) names += (names.empty() ? "" : ", ") + obj.name;
+            for (const ObjectSpec& obj : spec.objects)
+                names += (names.empty() ? "" : ", ") + obj.name;
             throw Error("--keep: the scene has no object '" + name + "' (objects: " + names + ")");
         }
     }
@@ -281,14 +292,18 @@ void runAssign(AssignCommand& cmd) {
         double defaults = 1.0;
         for (size_t c = 0; c < candidates.size(); ++c) {
             share[c] = sparkleShare(layers.layer(int(i), int(c)).data(), spec.width, spec.height);
-            if (candidates[c].settings.empty() && !candidates[c].brdf) defaults = std::min(defaults, share[c]);
+            if (candidates[c].settings.empty() && !candidates[c].brdf)
+                defaults = std::min(defaults, share[c]);
         }
         for (size_t c = 0; c < candidates.size(); ++c)
-            if (!candidates[c].settings.empty() && share[c] > kSparkleLimit && share[c] > 2.0 * defaults) {
+            if (!candidates[c].settings.empty() && share[c] > kSparkleLimit &&
+                share[c] > 2.0 * defaults) {
                 search.objectAllowed[i][c] = false;
                 sparkleNote += "\n- " + spec.objects[i].name + ": " + candidates[c].label() + " (" +
-                               fmt("%.0f", 100.0 * share[c]) + " % of its highlight in specks; the "
-                               "defaults' least " + fmt("%.0f", 100.0 * defaults) + " %)";
+                               fmt("%.0f", 100.0 * share[c]) +
+                               " % of its highlight in specks; the "
+                               "defaults' least " +
+                               fmt("%.0f", 100.0 * defaults) + " %)";
             }
     }
     // The scene's own assignment, where every object's model is a default-parameter candidate.
@@ -299,8 +314,9 @@ void runAssign(AssignCommand& cmd) {
             continue;
         }
         for (size_t c = 0; c < candidates.size(); ++c)
-            if (candidates[c].model == spec.objects[i].brdfModel && candidates[c].settings.empty() &&
-                !candidates[c].brdf && albedo == 0.0 && spec.objects[i].material.specularScale == 1.0)
+            if (candidates[c].model == spec.objects[i].brdfModel &&
+                candidates[c].settings.empty() && !candidates[c].brdf && albedo == 0.0 &&
+                spec.objects[i].material.specularScale == 1.0)
                 current[i] = int(c);
     }
     const bool hasCurrent = std::find(current.begin(), current.end(), -1) == current.end();
@@ -314,35 +330,37 @@ void runAssign(AssignCommand& cmd) {
                     fmt("%g", cmd.keepFraction) + " of the input's" +
                     (cmd.brightnessBand > 0.0 ? " and its luminance in the band" : std::string()) +
                     (cmd.distinct ? " with distinct models" : std::string()) +
-                    " (lower --keep-visible, widen --brightness-band, or drop --distinct); nothing written");
+                    " (lower --keep-visible, widen --brightness-band, or drop --distinct); nothing "
+                    "written");
 
-    std::string md = "# BRDF assignment: " + full.title + "\n\nScene `" + cmd.scene + "`; layers rendered at " +
-                     std::to_string(spec.width) + "×" + std::to_string(spec.height) + ", " +
-                     std::to_string(spec.samplesPerPixel) + " spp in " + fmt("%.1f", renderSeconds) +
-                     " s; " + std::to_string(candidates.size()) + " candidate BRDFs" +
-                     (albedo > 0.0 ? ", every lobe scaled to albedo " + fmt("%g", albedo) +
-                                         " at normal incidence"
-                                   : std::string()) +
-                     "; " +
-                     (result.exhaustive ? "exhaustive search" : "local search (coordinate ascent, " +
-                                                                    std::to_string(search.restarts + 1) +
-                                                                    " starts)") +
-                     " over " + std::to_string(result.space) + " assignments, " +
-                     std::to_string(result.evaluated) + " scored (" + std::to_string(result.rejected) +
-                     " broke a constraint) in " + fmt("%.2f", searchSeconds) +
-                     " s. Score: the separation score, metric " + cmd.metric +
-                     " (docs/separation.md). Constraints: " +
-                     (cmd.keepFraction > 0.0 ? "every object's visibility V and chroma C* at least " +
-                                                   fmt("%g", cmd.keepFraction) + " of the input's"
-                                             : std::string("none on visibility and chroma")) +
-                     (cmd.brightnessBand > 0.0
-                          ? "; mean luminance within ×1/" + fmt("%g", cmd.brightnessBand) + " … ×" +
-                                fmt("%g", cmd.brightnessBand) + " of the input's"
-                          : std::string()) +
-                     (cmd.distinct ? "; no two objects share a model" : std::string()) + ".\n\n";
+    std::string md =
+        "# BRDF assignment: " + full.title + "\n\nScene `" + cmd.scene + "`; layers rendered at " +
+        std::to_string(spec.width) + "×" + std::to_string(spec.height) + ", " +
+        std::to_string(spec.samplesPerPixel) + " spp in " + fmt("%.1f", renderSeconds) + " s; " +
+        std::to_string(candidates.size()) + " candidate BRDFs" +
+        (albedo > 0.0
+             ? ", every lobe scaled to albedo " + fmt("%g", albedo) + " at normal incidence"
+             : std::string()) +
+        "; " +
+        (result.exhaustive ? "exhaustive search"
+                           : "local search (coordinate ascent, " +
+                                 std::to_string(search.restarts + 1) + " starts)") +
+        " over " + std::to_string(result.space) + " assignments, " +
+        std::to_string(result.evaluated) + " scored (" + std::to_string(result.rejected) +
+        " broke a constraint) in " + fmt("%.2f", searchSeconds) +
+        " s. Score: the separation score, metric " + cmd.metric +
+        " (docs/separation.md). Constraints: " +
+        (cmd.keepFraction > 0.0 ? "every object's visibility V and chroma C* at least " +
+                                      fmt("%g", cmd.keepFraction) + " of the input's"
+                                : std::string("none on visibility and chroma")) +
+        (cmd.brightnessBand > 0.0 ? "; mean luminance within ×1/" + fmt("%g", cmd.brightnessBand) +
+                                        " … ×" + fmt("%g", cmd.brightnessBand) + " of the input's"
+                                  : std::string()) +
+        (cmd.distinct ? "; no two objects share a model" : std::string()) + ".\n\n";
     if (!sparkleNote.empty())
         md += "Not offered (sparkle: more than " + fmt("%.0f", 100 * kSparkleLimit) +
-              " % of the highlight in isolated pixels, kSparklePeak× their neighbours):" + sparkleNote + "\n\n";
+              " % of the highlight in isolated pixels, kSparklePeak× their neighbours):" +
+              sparkleNote + "\n\n";
     md += "| rank | score |";
     for (const ObjectSpec& obj : spec.objects) md += " " + obj.name + " |";
     md += "\n|---:|---:|";
@@ -356,24 +374,30 @@ void runAssign(AssignCommand& cmd) {
     const ScoredAssignment& best = result.ranked.front();
     const SeparationReport before = measureSeparation(inputLayers);
     const SeparationReport after = assignmentReport(weber, layers, best.assignment);
-    md += "\n## Before and after, per object\n\nInput: score " + fmt("%.4g", input.score) +
-          "; chosen: " + fmt("%.4g", best.score) + ". V: visibility (share of the pixel, "
-          "docs/separation.md); C*: mean CIELAB chroma where the object shows; Y: its mean "
-          "luminance there.\n\n| object | input model | chosen model | V before | V after | ratio | "
-          "C* before | C* after | ratio | Y ratio |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    md +=
+        "\n## Before and after, per object\n\nInput: score " + fmt("%.4g", input.score) +
+        "; chosen: " + fmt("%.4g", best.score) +
+        ". V: visibility (share of the pixel, "
+        "docs/separation.md); C*: mean CIELAB chroma where the object shows; Y: its mean "
+        "luminance there.\n\n| object | input model | chosen model | V before | V after | ratio | "
+        "C* before | C* after | ratio | Y ratio "
+        "|\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
     for (size_t i = 0; i < k; ++i) {
         const ObjectVisibility& b = before.objects[i];
         const ObjectVisibility& a = after.objects[i];
-        const auto ratio = [](double x, double y) { return y > 0.0 ? fmt("%.2f", x / y) : std::string("—"); };
+        const auto ratio = [](double x, double y) {
+            return y > 0.0 ? fmt("%.2f", x / y) : std::string("—");
+        };
         md += "| " + spec.objects[i].name + " | " + spec.objects[i].brdfModel + " | " +
               candidates[size_t(best.assignment[i])].label() + " | " + fmt("%.3f", b.visibility) +
-              " | " + fmt("%.3f", a.visibility) + " | " + ratio(a.visibility, b.visibility) + " | " +
-              fmt("%.1f", b.chroma) + " | " + fmt("%.1f", a.chroma) + " | " +
+              " | " + fmt("%.3f", a.visibility) + " | " + ratio(a.visibility, b.visibility) +
+              " | " + fmt("%.1f", b.chroma) + " | " + fmt("%.1f", a.chroma) + " | " +
               ratio(a.chroma, b.chroma) + " | " + ratio(a.meanLuminance, b.meanLuminance) + " |\n";
     }
     if (hasCurrent) {
-        const double score = assignmentReport(SeparationScorer(layers.scene, threshold, metric),
-                                              layers, current).score;
+        const double score =
+            assignmentReport(SeparationScorer(layers.scene, threshold, metric), layers, current)
+                .score;
         md += "\nThe scene's own assignment scores " + fmt("%.4g", score) + " from the layers";
         if (result.exhaustive)
             md += ", rank " + std::to_string(countBetter(layers, search, current) + 1) + " of " +
@@ -385,7 +409,8 @@ void runAssign(AssignCommand& cmd) {
     if (!cmd.quiet) {
         std::fprintf(stderr, "\nbest (score %.4g; input %.4g):\n", best.score, input.score);
         for (size_t i = 0; i < k; ++i)
-            std::fprintf(stderr, "  %-20s %s -> %s   visibility %.3f -> %.3f   chroma %.1f -> %.1f\n",
+            std::fprintf(stderr,
+                         "  %-20s %s -> %s   visibility %.3f -> %.3f   chroma %.1f -> %.1f\n",
                          spec.objects[i].name.c_str(), spec.objects[i].brdfModel.c_str(),
                          candidates[size_t(best.assignment[i])].label().c_str(),
                          before.objects[i].visibility, after.objects[i].visibility,
@@ -399,20 +424,23 @@ void runAssign(AssignCommand& cmd) {
 void registerAssignCommand(CLI::App& app) {
     static AssignCommand cmd;
     CLI::App* sub = app.add_subcommand(
-        "assign", "Choose each object's BRDF so that the objects are told apart: highlights apart, "
-                  "every object still seen and its colour kept (the paper's adaptive BRDF); writes "
-                  "the scene with the chosen models");
+        "assign",
+        "Choose each object's BRDF so that the objects are told apart: highlights apart, "
+        "every object still seen and its colour kept (the paper's adaptive BRDF); writes "
+        "the scene with the chosen models");
     sub->add_option("scene", cmd.scene, "scene file")->required();
     sub->add_option("--out", cmd.out, "the scene file to write (.json)")->required();
     sub->add_option("--keep", cmd.keep, "object whose BRDF stays as in the scene (repeatable)");
     sub->add_option("--exclude", cmd.exclude, "model not to choose (repeatable)");
-    sub->add_flag("--tune", cmd.tune,
-                  "also try each model's documented parameter variants (docs/brdf-properties.md); "
-                  "a variant whose highlight on an object is mostly sub-pixel specks is not offered");
+    sub->add_flag(
+        "--tune", cmd.tune,
+        "also try each model's documented parameter variants (docs/brdf-properties.md); "
+        "a variant whose highlight on an object is mostly sub-pixel specks is not offered");
     cmd.equalAlbedoOption =
-        sub->add_option("--equal-albedo", cmd.equalAlbedo,
-                        "scale every candidate lobe to albedo A at normal incidence (compare models "
-                        "by shape, not magnitude); A = 0.1 when no value is given; off by default")
+        sub->add_option(
+               "--equal-albedo", cmd.equalAlbedo,
+               "scale every candidate lobe to albedo A at normal incidence (compare models "
+               "by shape, not magnitude); A = 0.1 when no value is given; off by default")
             ->expected(0, 1)
             ->type_name("[A]");
     sub->add_flag("--distinct", cmd.distinct, "no two objects share a model");
@@ -420,8 +448,9 @@ void registerAssignCommand(CLI::App& app) {
                     "every object's visibility and chroma stay at least this fraction of the "
                     "input's (0: no bound)")
         ->capture_default_str();
-    sub->add_option("--brightness-band", cmd.brightnessBand,
-                    "B > 1: every object's mean luminance within [1/B, B] × the input's (0: no band)")
+    sub->add_option(
+           "--brightness-band", cmd.brightnessBand,
+           "B > 1: every object's mean luminance within [1/B, B] × the input's (0: no band)")
         ->capture_default_str();
     sub->add_option("--metric", cmd.metric,
                     "the score: weber (highlight separation × visibility, veiling, identity) or "
@@ -434,7 +463,9 @@ void registerAssignCommand(CLI::App& app) {
         ->check(CLI::Range(0, 1024));
     sub->add_flag("--force", cmd.force, "replace --out and its report if they exist");
     sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
-    sub->footer("The layers are rendered at 256 pixels wide and 2 spp unless --width/--spp/--preview say otherwise.");
+    sub->footer(
+        "The layers are rendered at 256 pixels wide and 2 spp unless --width/--spp/--preview say "
+        "otherwise.");
     sub->callback([] { runAssign(cmd); });
 }
 

@@ -1,11 +1,11 @@
 // `lobe brdf list | eval | props`: the reflection models as a tool. `eval` is the stable interface
 // other tools check the models through: one input line of six numbers (wi then wo, local frame,
 // normalised here) gives one output line of three band values with 10 significant digits.
+#include "analysis/properties.h"
 #include "apps/brdf_input.h"
 #include "apps/commands.h"
 #include "core/error.h"
 #include "core/tile_scheduler.h"
-#include "analysis/properties.h"
 #include "materials/registry.h"
 
 #include <CLI/CLI.hpp>
@@ -51,7 +51,8 @@ void evalModel(const std::string& name, const std::vector<std::string>& settings
             }
             throw Error("standard input line " + std::to_string(lineNumber) +
                         ": expected six comma-separated numbers wi_x,wi_y,wi_z,wo_x,wo_y,wo_z, "
-                        "got '" + shown + "'");
+                        "got '" +
+                        shown + "'");
         }
         Vec3 wi, wo;
         if (!unitDirection(v[0], v[1], v[2], wi) || !unitDirection(v[3], v[4], v[5], wo))
@@ -116,30 +117,31 @@ std::string csvField(const std::string& s) {
 
 void printPerSetting(const std::vector<PropertyReport>& reports, bool csv) {
     if (csv) {
-        std::printf("model,setting,reciprocity_error,max_albedo,max_albedo_stderr,theta_at_max_deg,"
-                    "anisotropy,albedo_80_over_0,albedo_80_over_0_stderr,reciprocal,"
-                    "energy_conserving,plausible,fresnel,anisotropic\n");
+        std::printf(
+            "model,setting,reciprocity_error,max_albedo,max_albedo_stderr,theta_at_max_deg,"
+            "anisotropy,albedo_80_over_0,albedo_80_over_0_stderr,reciprocal,"
+            "energy_conserving,plausible,fresnel,anisotropic\n");
         for (const PropertyReport& r : reports)
             std::printf("%s,%s,%.3g,%.5g,%.2g,%g,%.3g,%.5g,%.2g,%s,%s,%s,%s,%s\n",
                         r.setting.model.c_str(), csvField(r.setting.label).c_str(),
                         r.reciprocityError, r.maxAlbedo.value, r.maxAlbedo.stdError,
                         r.thetaAtMaxDeg, r.anisotropy, r.albedoRatio80To0.value,
-                        r.albedoRatio80To0.stdError, yesNo(r.reciprocal),
-                        yesNo(r.energyConserving), yesNo(r.plausible), yesNo(r.fresnel),
-                        yesNo(r.anisotropic));
+                        r.albedoRatio80To0.stdError, yesNo(r.reciprocal), yesNo(r.energyConserving),
+                        yesNo(r.plausible), yesNo(r.fresnel), yesNo(r.anisotropic));
         return;
     }
-    std::printf("| model | setting | reciprocity error | max a(θi) ± σ | at θi | anisotropy | "
-                "a(80°)/a(0°) | reciprocal | a ≤ 1 | plausible | Fresnel | anisotropic |\n");
+    std::printf(
+        "| model | setting | reciprocity error | max a(θi) ± σ | at θi | anisotropy | "
+        "a(80°)/a(0°) | reciprocal | a ≤ 1 | plausible | Fresnel | anisotropic |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const PropertyReport& r : reports)
-        std::printf("| %s | %s | %.2g | %.4g ± %.1g | %g° | %.2g | %.3g ± %.1g | %s | %s | %s | %s "
-                    "| %s |\n",
-                    r.setting.model.c_str(), r.setting.label.c_str(), r.reciprocityError,
-                    r.maxAlbedo.value, r.maxAlbedo.stdError, r.thetaAtMaxDeg, r.anisotropy,
-                    r.albedoRatio80To0.value, r.albedoRatio80To0.stdError, yesNo(r.reciprocal),
-                    yesNo(r.energyConserving), yesNo(r.plausible), yesNo(r.fresnel),
-                    yesNo(r.anisotropic));
+        std::printf(
+            "| %s | %s | %.2g | %.4g ± %.1g | %g° | %.2g | %.3g ± %.1g | %s | %s | %s | %s "
+            "| %s |\n",
+            r.setting.model.c_str(), r.setting.label.c_str(), r.reciprocityError, r.maxAlbedo.value,
+            r.maxAlbedo.stdError, r.thetaAtMaxDeg, r.anisotropy, r.albedoRatio80To0.value,
+            r.albedoRatio80To0.stdError, yesNo(r.reciprocal), yesNo(r.energyConserving),
+            yesNo(r.plausible), yesNo(r.fresnel), yesNo(r.anisotropic));
 }
 
 // Table 1 of the paper (Koldenhof 2003), one row per model in the paper's order, measured
@@ -158,19 +160,21 @@ void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
                      [&](const Row& a, const Row& b) { return rank(a) < rank(b); });
 
     if (csv)
-        std::printf("number,model,plausible,fresnel,anisotropic,popular_paper,score_measured,"
-                    "paper_properties,paper_score,disagreements\n");
+        std::printf(
+            "number,model,plausible,fresnel,anisotropic,popular_paper,score_measured,"
+            "paper_properties,paper_score,disagreements\n");
     else {
-        std::printf("| # | BRDF | Physically plausible | Fresnel behavior | Anisotropic | "
-                    "Popular (paper) | Score (measured) | Paper: properties | Paper: score | "
-                    "Disagreements |\n");
+        std::printf(
+            "| # | BRDF | Physically plausible | Fresnel behavior | Anisotropic | "
+            "Popular (paper) | Score (measured) | Paper: properties | Paper: score | "
+            "Disagreements |\n");
         std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
     }
     for (const Row& row : rows) {
         const PropertyReport& d = defaultsReport(reports, row.model);
         const PaperClaims& c = row.claims;
-        const int score = int(d.plausible) + int(d.fresnel) + int(d.anisotropic) +
-                          int(c.found && c.popular);
+        const int score =
+            int(d.plausible) + int(d.fresnel) + int(d.anisotropic) + int(c.found && c.popular);
         std::string disagree;
         const auto check = [&](bool measured, bool claimed, const char* what) {
             if (!c.found || measured == claimed) return;
@@ -180,18 +184,17 @@ void printTable1(const std::vector<PropertyReport>& reports, bool csv) {
         check(d.plausible, c.plausible, "plausible");
         check(d.fresnel, c.fresnel, "Fresnel");
         check(d.anisotropic, c.anisotropic, "anisotropic");
-        const std::string plausible = summaryCell(reports, row.model, [](const PropertyReport& r) {
-            return r.plausible;
-        });
+        const std::string plausible =
+            summaryCell(reports, row.model, [](const PropertyReport& r) { return r.plausible; });
         const std::string fresnel =
             summaryCell(reports, row.model, [](const PropertyReport& r) { return r.fresnel; });
-        const std::string aniso = summaryCell(reports, row.model,
-                                              [](const PropertyReport& r) { return r.anisotropic; });
+        const std::string aniso =
+            summaryCell(reports, row.model, [](const PropertyReport& r) { return r.anisotropic; });
         const std::string number = c.found ? std::to_string(c.number) : "-";
         const std::string popular = c.found ? yesNo(c.popular) : "n/a";
-        const std::string paperProps = c.found ? claimsText(c.plausible, c.fresnel, c.anisotropic,
-                                                            c.popular)
-                                               : "not in the paper";
+        const std::string paperProps =
+            c.found ? claimsText(c.plausible, c.fresnel, c.anisotropic, c.popular)
+                    : "not in the paper";
         const std::string paperScore = c.found ? std::to_string(c.score) : "-";
         if (csv)
             std::printf("%s,%s,%s,%s,%s,%s,%d,%s,%s,%s\n", number.c_str(), row.model.c_str(),
@@ -222,9 +225,8 @@ void measureAndPrint(const PropsOptions& o) {
     std::vector<PropertyReport> reports(settings.size());
     const auto start = std::chrono::steady_clock::now();
     runWithThreads(o.threads, [&] {
-        tbb::parallel_for(size_t(0), settings.size(), [&](size_t i) {
-            reports[i] = measureProperties(settings[i], options);
-        });
+        tbb::parallel_for(size_t(0), settings.size(),
+                          [&](size_t i) { reports[i] = measureProperties(settings[i], options); });
     });
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -235,19 +237,22 @@ void measureAndPrint(const PropsOptions& o) {
             printTable1(reports, true);
     } else {
         std::printf("## Table 1, regenerated from measurements\n\n");
-        std::printf("Measured columns: the value at the model's defaults, then (k/N) the number of "
-                    "its N measured settings (defaults and sweep) where the property holds. "
-                    "Score = measured properties at the defaults + the paper's 'Popular' (not "
-                    "measurable, carried over).\n\n");
+        std::printf(
+            "Measured columns: the value at the model's defaults, then (k/N) the number of "
+            "its N measured settings (defaults and sweep) where the property holds. "
+            "Score = measured properties at the defaults + the paper's 'Popular' (not "
+            "measurable, carried over).\n\n");
         printTable1(reports, false);
         std::printf("\n## Per setting\n\n");
         std::printf("Albedo: %lld samples per (θi, φi), θi ∈ {", static_cast<long long>(o.samples));
         for (size_t i = 0; i < albedoThetasDeg().size(); ++i)
             std::printf("%s%g", i ? ", " : "", albedoThetasDeg()[i]);
-        std::printf("}°, max over φi ∈ {0, 45, 90}° and the three bands; reciprocity and "
-                    "anisotropy over %lld pairs; thresholds: reciprocal if error ≤ %g, anisotropic "
-                    "if measure > %g, a ≤ 1 and Fresnel decided at %g σ.\n\n",
-                    static_cast<long long>(options.pairs), kReciprocityTolerance, kAnisotropyTolerance, kSigmaThreshold);
+        std::printf(
+            "}°, max over φi ∈ {0, 45, 90}° and the three bands; reciprocity and "
+            "anisotropy over %lld pairs; thresholds: reciprocal if error ≤ %g, anisotropic "
+            "if measure > %g, a ≤ 1 and Fresnel decided at %g σ.\n\n",
+            static_cast<long long>(options.pairs), kReciprocityTolerance, kAnisotropyTolerance,
+            kSigmaThreshold);
         printPerSetting(reports, false);
     }
     std::fprintf(stderr, "lobe brdf props: %zu settings measured in %.2f s\n", settings.size(),
@@ -283,9 +288,10 @@ void registerBrdfCommand(CLI::App& app) {
     props->add_flag("--csv", propsOptions.csv, "CSV instead of Markdown (Table 1 only)");
     props->add_flag("--per-setting", propsOptions.perSetting,
                     "with --csv: one row per measured setting instead of Table 1");
-    props->add_option("--samples", propsOptions.samples,
-                      "albedo samples per (θi, φi) estimate, 64 to 16777216 (pairs for "
-                      "reciprocity/anisotropy: 8×)")
+    props
+        ->add_option("--samples", propsOptions.samples,
+                     "albedo samples per (θi, φi) estimate, 64 to 16777216 (pairs for "
+                     "reciprocity/anisotropy: 8×)")
         ->capture_default_str();
     props->add_option("--threads", propsOptions.threads, "worker threads (0: all)")
         ->capture_default_str();

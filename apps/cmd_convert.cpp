@@ -1,7 +1,7 @@
 // `lobe convert IN... OUT.vdb [options]`: loads any supported volume (raw with a layout, NIfTI,
-// NRRD .nhdr, .vdb, a DICOM folder or the files of one series) and writes it as an OpenVDB float grid with Lobe's metadata, so later runs
-// load it without options. The output is written to a temporary name and renamed: on any error
-// nothing is written.
+// NRRD .nhdr, .vdb, a DICOM folder or the files of one series) and writes it as an OpenVDB float
+// grid with Lobe's metadata, so later runs load it without options. The output is written to a
+// temporary name and renamed: on any error nothing is written.
 #include "apps/commands.h"
 #include "core/error.h"
 #include "volume/volume_summary.h"
@@ -26,9 +26,10 @@ void registerConvertCommand(CLI::App& app) {
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
-        "convert", "Convert a volume (.nii, .nii.gz, .nhdr, .vdb, a DICOM series as a folder "
-                   "or its files, raw with --dims --type --endian --spacing) to an OpenVDB .vdb "
-                   "file");
+        "convert",
+        "Convert a volume (.nii, .nii.gz, .nhdr, .vdb, a DICOM series as a folder "
+        "or its files, raw with --dims --type --endian --spacing) to an OpenVDB .vdb "
+        "file");
     // One list: CLI11 gives a vector positional every word, so OUT is taken from its end.
     cmd->add_option("IN... OUT", options->in,
                     "the input volume (or a DICOM folder, or the DICOM files of one series), then "

@@ -3,14 +3,14 @@
 // BRDF evaluations and the CPU time of shading them; with --models, the same scene rendered again
 // with each model on one object, side by side. Prints Markdown; --csv writes the same numbers as
 // one long table. Nothing else is written. docs/cost.md explains what each number measures.
+#include "analysis/overlap_report.h"
 #include "apps/commands.h"
 #include "apps/cost_report.h"
 #include "apps/scene_overrides.h"
-#include "analysis/overlap_report.h"
+#include "core/error.h"
 #include "materials/registry.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
-#include "core/error.h"
 
 #include <CLI/CLI.hpp>
 
@@ -61,7 +61,8 @@ int objectIndex(const SceneSpec& spec, const std::string& name) {
         if (spec.objects[i].name == name) return int(i);
     std::string names;
     for (const ObjectSpec& o : spec.objects) names += (names.empty() ? "" : ", ") + o.name;
-    throw Error("--object: " + spec.path + " has no object '" + name + "' (objects: " + names + ")");
+    throw Error("--object: " + spec.path + " has no object '" + name + "' (objects: " + names +
+                ")");
 }
 
 void runCost(const CostCommand& cmd) {
@@ -80,7 +81,8 @@ void runCost(const CostCommand& cmd) {
     if (!cmd.models.empty()) {
         target = objectIndex(spec, cmd.object);
         const std::vector<std::string> names = splitList(cmd.models);
-        if (names.empty()) throw Error("--models: expected a comma list of models (lobe brdf list)");
+        if (names.empty())
+            throw Error("--models: expected a comma list of models (lobe brdf list)");
         for (const std::string& name : names) {
             SceneSpec s = spec;
             ObjectSpec& o = s.objects[size_t(target)];
@@ -122,9 +124,10 @@ void runCost(const CostCommand& cmd) {
 void registerCostCommand(CLI::App& app) {
     static CostCommand cmd;
     CLI::App* sub = app.add_subcommand(
-        "cost", "What rendering a scene costs: CPU time by part (surfaces, volume sampling, "
-                "shading) and per object its BRDF evaluations and their time; with --models, the "
-                "same scene with each model on one object (docs/cost.md)");
+        "cost",
+        "What rendering a scene costs: CPU time by part (surfaces, volume sampling, "
+        "shading) and per object its BRDF evaluations and their time; with --models, the "
+        "same scene with each model on one object (docs/cost.md)");
     sub->add_option("scene", cmd.scene, "a scene file (docs/scene-format.md)")->required();
     cmd.overrides.addOptions(*sub);
     sub->add_option("--models", cmd.models,
@@ -142,8 +145,9 @@ void registerCostCommand(CLI::App& app) {
         ->capture_default_str()
         ->check(CLI::Range(0, 1024));
     sub->add_flag("--quiet", cmd.quiet, "no progress display");
-    sub->footer("Example: lobe cost assets/scenes/paper/rendering-01.json --width 128 --spp 1 "
-                "--object cortex --models ward,he_torrance,cook_torrance --csv cost.csv");
+    sub->footer(
+        "Example: lobe cost assets/scenes/paper/rendering-01.json --width 128 --spp 1 "
+        "--object cortex --models ward,he_torrance,cook_torrance --csv cost.csv");
     sub->callback([] { runCost(cmd); });
 }
 

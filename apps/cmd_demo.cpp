@@ -3,14 +3,14 @@
 // assets/ — and the BRDF gallery into --out, as EXR and PNG. The default size (512², 4 spp)
 // keeps a first run short; --size 1024 --spp 8 gives the paper's settings.
 #include "apps/commands.h"
+#include "apps/data_dir.h"
 #include "apps/figure_output.h"
 #include "apps/output_folder.h"
-#include "apps/data_dir.h"
+#include "core/error.h"
+#include "core/image_output.h"
 #include "render/gallery.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
-#include "core/error.h"
-#include "core/image_output.h"
 
 #include <CLI/CLI.hpp>
 
@@ -36,9 +36,10 @@ void runDemo(const DemoCommand& cmd) {
     if (cmd.spp < 1 || cmd.spp > 4096) throw Error("--spp must be in [1, 4096]");
     const std::string assets = cmd.assets.empty() ? findAssetsDir() : cmd.assets;
     if (assets.empty())
-        throw Error("cannot find Lobe's assets folder next to the executable (installed: "
-                    "PREFIX/share/lobe/assets; in a build tree: the repository's assets/); give it "
-                    "with --assets");
+        throw Error(
+            "cannot find Lobe's assets folder next to the executable (installed: "
+            "PREFIX/share/lobe/assets; in a build tree: the repository's assets/); give it "
+            "with --assets");
     const fs::path scenePath = fs::path(assets) / "scenes" / "paper" / "rendering-01.json";
     if (!fs::exists(scenePath))
         throw Error("cannot find the demo scene '" + scenePath.string() +
@@ -73,10 +74,11 @@ void runDemo(const DemoCommand& cmd) {
     const std::string galleryBase = (fs::path(cmd.outDir) / "gallery").string();
     writeGalleryFiles(galleryBase, g, gallery);
     if (!cmd.quiet)
-        std::printf("rendering 1 (%s): %dx%d, %d spp in %.1f s -> %s.png / .exr\n"
-                    "BRDF gallery -> %s.png / .exr\n",
-                    spec.title.c_str(), spec.width, spec.height, spec.samplesPerPixel,
-                    stats.seconds, base.c_str(), galleryBase.c_str());
+        std::printf(
+            "rendering 1 (%s): %dx%d, %d spp in %.1f s -> %s.png / .exr\n"
+            "BRDF gallery -> %s.png / .exr\n",
+            spec.title.c_str(), spec.width, spec.height, spec.samplesPerPixel, stats.seconds,
+            base.c_str(), galleryBase.c_str());
 }
 
 }  // namespace
@@ -84,11 +86,13 @@ void runDemo(const DemoCommand& cmd) {
 void registerDemoCommand(CLI::App& app) {
     static DemoCommand cmd;
     CLI::App* sub = app.add_subcommand(
-        "demo", "Render the default scene (the paper's rendering 1) and the BRDF gallery into --out");
+        "demo",
+        "Render the default scene (the paper's rendering 1) and the BRDF gallery into --out");
     sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
     sub->add_option("--size", cmd.size, "image width and height")->capture_default_str();
     sub->add_option("--spp", cmd.spp, "samples per pixel")->capture_default_str();
-    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")->capture_default_str();
+    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")
+        ->capture_default_str();
     sub->add_option("--assets", cmd.assets,
                     "the assets folder (default: found next to the executable, apps/data_dir.h)");
     sub->add_flag("--quiet", cmd.quiet, "no progress display");

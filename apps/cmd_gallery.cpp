@@ -2,9 +2,9 @@
 #include "apps/commands.h"
 #include "apps/figure_output.h"
 #include "apps/output_folder.h"
-#include "render/gallery.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "render/gallery.h"
 
 #include <CLI/CLI.hpp>
 
@@ -33,7 +33,8 @@ void runGallery(const GalleryCommand& cmd) {
 void addGalleryOptions(CLI::App* sub, GalleryCommand& cmd) {
     sub->add_option("--out", cmd.outDir, "output folder (gallery.exr and gallery.png)")
         ->capture_default_str();
-    sub->add_option("--cell", cmd.options.cellSize, "pixels per sphere cell")->capture_default_str();
+    sub->add_option("--cell", cmd.options.cellSize, "pixels per sphere cell")
+        ->capture_default_str();
     sub->add_option("--spp", cmd.options.samplesPerPixel, "jittered samples per pixel")
         ->capture_default_str();
     sub->add_option("--threads", cmd.options.threads, "worker threads (0: all cores)")

@@ -2,7 +2,8 @@
 // prints its dimensions, spacing, world bounding box, value range, mean, percentiles (1, 5, 50,
 // 95, 99 %), active voxels, the grid's memory and the load time (FILE may be a DICOM folder or
 // several DICOM files, --series picks a series); --blur-fwhm blurs first (as a
-// scene's source does), --histogram / --bins N adds a histogram. Also home of the volume options `lobe convert` shares.
+// scene's source does), --histogram / --bins N adds a histogram. Also home of the volume options
+// `lobe convert` shares.
 #include "apps/commands.h"
 #include "core/error.h"
 #include "volume/label_table.h"
@@ -56,7 +57,8 @@ void printVolumeSummary(const VolumeSummary& s) {
     std::printf("file values     %.9g .. %.9g\n", s.originalMin, s.originalMax);
     std::printf("value scale     %.9g  (stored = file value x scale)\n", s.valueScale);
     std::printf("stored values   %.9g .. %.9g, mean %.6g\n", s.min, s.max, s.mean);
-    if (s.blurFwhm > 0.0) std::printf("blurred         Gaussian, FWHM %g (world units)\n", s.blurFwhm);
+    if (s.blurFwhm > 0.0)
+        std::printf("blurred         Gaussian, FWHM %g (world units)\n", s.blurFwhm);
     const auto percentiles = [&](const char* label, const std::array<double, 5>& p) {
         std::printf("%s", label);
         for (std::size_t i = 0; i < p.size(); ++i)
@@ -83,7 +85,8 @@ void printVolumeSummary(const VolumeSummary& s) {
         };
         std::int64_t total = 0;
         for (std::int64_t c : s.histogram.counts) total += c;
-        const bool zeroInside = s.histogram.lo <= 0.0 && 0.0 <= s.histogram.hi && s.histogram.hi > s.histogram.lo;
+        const bool zeroInside =
+            s.histogram.lo <= 0.0 && 0.0 <= s.histogram.hi && s.histogram.hi > s.histogram.lo;
         const std::size_t zeroBin = zeroInside ? binOf(0.0) : n;
         const bool cut = zeroBin < n && 2 * s.histogram.counts[zeroBin] > total;
         std::int64_t most = 1;
@@ -92,14 +95,18 @@ void printVolumeSummary(const VolumeSummary& s) {
         std::printf("histogram       %zu bins over every voxel of the box%s\n", n,
                     cut ? "; bars scaled without the bin of 0, whose bar is cut (>)" : "");
         for (std::size_t b = 0; b < n; ++b) {
-            const double lo = s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b) / double(n);
-            const double hi = s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b + 1) / double(n);
+            const double lo =
+                s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b) / double(n);
+            const double hi =
+                s.histogram.lo + (s.histogram.hi - s.histogram.lo) * double(b + 1) / double(n);
             const std::int64_t c = s.histogram.counts[b];
             const bool over = c > most;
-            std::string bar(std::size_t(40.0 * double(std::min(c, most)) / double(most) + 0.5), '#');
+            std::string bar(std::size_t(40.0 * double(std::min(c, most)) / double(most) + 0.5),
+                            '#');
             if (over) bar += '>';
-            std::printf("  %12.6g .. %-12.6g %12lld  %6.2f %%  %s\n", lo, hi, static_cast<long long>(c),
-                        total ? 100.0 * double(c) / double(total) : 0.0, bar.c_str());
+            std::printf("  %12.6g .. %-12.6g %12lld  %6.2f %%  %s\n", lo, hi,
+                        static_cast<long long>(c), total ? 100.0 * double(c) / double(total) : 0.0,
+                        bar.c_str());
         }
     }
 }
@@ -155,9 +162,10 @@ void registerInfoCommand(CLI::App& app) {
     };
     auto options = std::make_shared<Options>();
     CLI::App* cmd = app.add_subcommand(
-        "info", "Print a volume's dimensions, spacing, world box, value range, mean, percentiles, "
-                "active voxels and memory, optionally a histogram (.nii, .nii.gz, .nhdr, .vdb, a "
-                "DICOM series as a folder or its files; raw files with --dims --type ...)");
+        "info",
+        "Print a volume's dimensions, spacing, world box, value range, mean, percentiles, "
+        "active voxels and memory, optionally a histogram (.nii, .nii.gz, .nhdr, .vdb, a "
+        "DICOM series as a folder or its files; raw files with --dims --type ...)");
     cmd->add_option("FILE", options->files,
                     "the volume file; or a DICOM folder, or the DICOM files of one series")
         ->required();
@@ -168,7 +176,8 @@ void registerInfoCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_flag("--histogram", options->histogram,
                   "also print a histogram of the values (every voxel of the box)");
-    cmd->add_option("--bins", options->bins, "the histogram's bins (default 32; implies --histogram)")
+    cmd->add_option("--bins", options->bins,
+                    "the histogram's bins (default 32; implies --histogram)")
         ->check(CLI::Range(1, 10000));
     cmd->add_flag("--labels", options->labels,
                   "FILE is a label map (segmentation, atlas): list the labels present with their "

@@ -3,10 +3,10 @@
 // primitives × 3 bands), scores all unordered pairs, and writes overlap.csv, overlap.md,
 // overlap-heatmap.png and lobes/<a>_vs_<b>.png into --out. `--study` instead runs the convergence
 // study (lattice size × samples per pixel against the largest of both) and writes study.md.
+#include "analysis/overlap_ranking.h"
+#include "analysis/overlap_report.h"
 #include "apps/commands.h"
 #include "apps/output_folder.h"
-#include "analysis/overlap_report.h"
-#include "analysis/overlap_ranking.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "materials/registry.h"
@@ -62,7 +62,8 @@ void runOverlap(OverlapCommand& cmd) {
     options.progress = !cmd.quiet;
     parseSettings(cmd.settings, options);
     if (options.threads < 0)
-        throw Error("--threads " + std::to_string(options.threads) + ": must be ≥ 0 (0: all cores)");
+        throw Error("--threads " + std::to_string(options.threads) +
+                    ": must be ≥ 0 (0: all cores)");
     const OverlapVariant variant = parseOverlapVariant(cmd.variant);
     const auto extraPairs = parsePairs(cmd.pairs);
     validateStandardTestOptions(options);
@@ -81,8 +82,8 @@ void runOverlap(OverlapCommand& cmd) {
             runConvergenceStudy(options, {128, 256, 512}, {1, 4, 16, 64}, variant);
         createOutputFolder(cmd.outDir);
         const std::string path = (std::filesystem::path(cmd.outDir) / "study.md").string();
-        writeTextFileAtomic(path, "# Flux overlap: convergence against 512² × 64 spp\n\n" +
-                                      studyMarkdown(rows));
+        writeTextFileAtomic(
+            path, "# Flux overlap: convergence against 512² × 64 spp\n\n" + studyMarkdown(rows));
         if (!cmd.quiet) std::printf("wrote %s\n", path.c_str());
         return;
     }
@@ -96,24 +97,22 @@ void runOverlap(OverlapCommand& cmd) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
 
-    std::string settingsLine = "Lattice " + std::to_string(options.size) + "², " +
-                               std::to_string(options.samplesPerPixel) +
-                               " jittered samples per pixel, threshold " +
-                               std::to_string(options.threshold) + ", " +
-                               std::to_string(lattices.models.size()) + " models, " +
-                               std::to_string(pairs.size()) + " pairs; test time " +
-                               formatDuration(seconds) + " (CPU " + formatDuration(cpuSeconds) +
-                               ").";
+    std::string settingsLine =
+        "Lattice " + std::to_string(options.size) + "², " +
+        std::to_string(options.samplesPerPixel) + " jittered samples per pixel, threshold " +
+        std::to_string(options.threshold) + ", " + std::to_string(lattices.models.size()) +
+        " models, " + std::to_string(pairs.size()) + " pairs; test time " +
+        formatDuration(seconds) + " (CPU " + formatDuration(cpuSeconds) + ").";
     for (const std::string& s : cmd.settings) settingsLine += " Override: `" + s + "`.";
     const OverlapReportFiles files = writeOverlapReport(cmd.outDir, lattices, pairs, extraPairs,
                                                         options.threshold, variant, settingsLine);
     if (!cmd.quiet) {
-        std::printf("flux overlap: %zu pairs in %s (CPU %s); best %s + %s (%.4g), worst %s + %s "
-                    "(%.4g)\n",
-                    pairs.size(), formatDuration(seconds).c_str(),
-                    formatDuration(cpuSeconds).c_str(), pairs.front().modelA.c_str(),
-                    pairs.front().modelB.c_str(), pairs.front().score, pairs.back().modelA.c_str(),
-                    pairs.back().modelB.c_str(), pairs.back().score);
+        std::printf(
+            "flux overlap: %zu pairs in %s (CPU %s); best %s + %s (%.4g), worst %s + %s "
+            "(%.4g)\n",
+            pairs.size(), formatDuration(seconds).c_str(), formatDuration(cpuSeconds).c_str(),
+            pairs.front().modelA.c_str(), pairs.front().modelB.c_str(), pairs.front().score,
+            pairs.back().modelA.c_str(), pairs.back().modelB.c_str(), pairs.back().score);
         std::printf("wrote %s, %s, %s and %zu lobe image(s)\n", files.csv.c_str(),
                     files.markdown.c_str(), files.heatmap.c_str(), files.lobeImages.size());
     }
@@ -124,12 +123,12 @@ void runOverlap(OverlapCommand& cmd) {
 void registerOverlapCommand(CLI::App& app) {
     static OverlapCommand cmd;
     CLI::App* sub = app.add_subcommand(
-        "overlap", "Total flux overlap test: rank all pairs of specular BRDFs by how little their "
-                   "lobes overlap (paper Figures 5-9)");
+        "overlap",
+        "Total flux overlap test: rank all pairs of specular BRDFs by how little their "
+        "lobes overlap (paper Figures 5-9)");
     sub->add_option("--out", cmd.outDir, "output folder")->required();
     sub->add_option("--size", cmd.options.size, "lattice side in pixels")->capture_default_str();
-    sub->add_option("--spp", cmd.options.samplesPerPixel,
-                    "jittered samples per pixel (16 = 4x4)")
+    sub->add_option("--spp", cmd.options.samplesPerPixel, "jittered samples per pixel (16 = 4x4)")
         ->capture_default_str();
     sub->add_option("--variant", cmd.variant, "metric variant that ranks: sum or mse")
         ->capture_default_str();

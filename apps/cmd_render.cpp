@@ -9,13 +9,13 @@
 #include "apps/output_folder.h"
 #include "apps/render_batch.h"
 #include "apps/scene_overrides.h"
-#include "render/framing.h"
-#include "render/render_scene.h"
-#include "render/scene_file.h"
 #include "core/cluster.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/progress.h"
+#include "render/framing.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 
 #include <CLI/CLI.hpp>
 
@@ -23,10 +23,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <map>
-#include <set>
 #include <memory>
+#include <set>
+#include <sstream>
 #include <tuple>
 
 namespace lobe {
@@ -43,7 +43,7 @@ struct RenderCommand {
     bool quiet = false;
     bool noContactSheets = false;
     int sheetThumb = 256;
-    std::string aov;  // --aov LIST: per-object passes as extra EXR channels
+    std::string aov;            // --aov LIST: per-object passes as extra EXR channels
     bool check = false;         // validate every scene, print every error, render nothing
     bool skipExisting = false;  // resume: scenes whose EXR and PNG exist are not rendered again
     bool keepGoing = false;     // a failing scene is reported and the batch goes on
@@ -94,9 +94,8 @@ std::string fileText(const std::string& path) {
 // overrides and --aov set.
 std::string settingsText(const SceneSpec& spec, const std::string& aov) {
     char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "%dx%d spp %d seed %llu step %.17g%s roulette %.17g aov ", spec.width,
-                  spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
+    std::snprintf(buf, sizeof buf, "%dx%d spp %d seed %llu step %.17g%s roulette %.17g aov ",
+                  spec.width, spec.height, spec.samplesPerPixel, (unsigned long long)spec.seed,
                   spec.volumeStepVoxels, spec.volumePreIntegrated ? " pre-integrated" : "",
                   spec.shadingRoulette);
     return buf + aov;
@@ -121,8 +120,9 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
             scenes.insert(scenes.end(), found.begin(), found.end());
         } else {
             if (!fs::exists(input, ec))
-                throw Error("scene file '" + input + "' " +
-                            (ec ? "cannot be read: " + ec.message() : std::string("does not exist")));
+                throw Error(
+                    "scene file '" + input + "' " +
+                    (ec ? "cannot be read: " + ec.message() : std::string("does not exist")));
             scenes.push_back(input);
         }
     }
@@ -141,8 +141,9 @@ std::vector<std::string> collectScenes(const RenderCommand& cmd) {
                                    : fs::path(cmd.listFile).parent_path() / line;
             std::error_code ec;
             if (!fs::exists(p, ec))
-                throw Error(cmd.listFile + ":" + std::to_string(n) + ": scene file '" + p.string() +
-                            "' " + (ec ? "cannot be read: " + ec.message() : std::string("does not exist")));
+                throw Error(
+                    cmd.listFile + ":" + std::to_string(n) + ": scene file '" + p.string() + "' " +
+                    (ec ? "cannot be read: " + ec.message() : std::string("does not exist")));
             scenes.push_back(p.string());
         }
     }
@@ -208,9 +209,9 @@ std::vector<PixelBuffer> pixelBuffers(Film& film, AovImage& aovs) {
     std::vector<PixelBuffer> buffers{
         {reinterpret_cast<unsigned char*>(film.data()), sizeof(Spectrum)}};
     const size_t pixels = size_t(film.width()) * size_t(film.height());
-    for (std::vector<float>* pass : {&aovs.lambert, &aovs.specular, &aovs.backdrop, &aovs.depth,
-                                     &aovs.normal, &aovs.topObject, &aovs.modelSpecular, &aovs.alpha,
-                                     &aovs.objectDepth})
+    for (std::vector<float>* pass :
+         {&aovs.lambert, &aovs.specular, &aovs.backdrop, &aovs.depth, &aovs.normal, &aovs.topObject,
+          &aovs.modelSpecular, &aovs.alpha, &aovs.objectDepth})
         if (!pass->empty())
             buffers.push_back({reinterpret_cast<unsigned char*>(pass->data()),
                                pass->size() / pixels * sizeof(float)});
@@ -241,8 +242,8 @@ Film renderShared(const RenderScene& scene, const RenderCommand& cmd, const AovR
 // Output file names (without extension): the scene file's name in --out, with "-preview" for
 // --preview renders so that a quick look never replaces a full render.
 std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
-    const std::string stem =
-        fs::path(spec.path).stem().string() + spec.outputSuffix + (cmd.overrides.preview ? "-preview" : "");
+    const std::string stem = fs::path(spec.path).stem().string() + spec.outputSuffix +
+                             (cmd.overrides.preview ? "-preview" : "");
     return (fs::path(cmd.outDir) / stem).string();
 }
 
@@ -274,15 +275,17 @@ void runRender(const RenderCommand& cmd) {
                     const std::string base = outputBase(cmd, spec);
                     const auto [it, fresh] = writerOf.emplace(base, f);
                     if (!fresh)
-                        throw Error("scenes '" + it->second + "' and '" + f + "' would both write " +
-                                    base + ".exr/.png: rename one, or render them into different "
+                        throw Error("scenes '" + it->second + "' and '" + f +
+                                    "' would both write " + base +
+                                    ".exr/.png: rename one, or render them into different "
                                     "--out folders");
                     specs.push_back(std::move(spec));
                 }
             } catch (const Error& e) {
                 if (!cmd.check && !cmd.keepGoing) throw;
                 errors.push_back(e.what());
-                if (!cmd.check && root) std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
+                if (!cmd.check && root)
+                    std::fprintf(stderr, "lobe: error: %s (skipped)\n", e.what());
             }
         }
     };
@@ -356,7 +359,8 @@ void runRender(const RenderCommand& cmd) {
                 const std::string mine = volumes.contentHashes(spec);
                 const std::string differs = contentHashDifference(cluster::broadcast(mine), mine);
                 if (!differs.empty() && first.empty())
-                    first = spec.path + ": this rank loaded other volume data than rank 0: " + differs;
+                    first =
+                        spec.path + ": this rank loaded other volume data than rank 0: " + differs;
             }
             if (!first.empty()) throw Error(first);
         });
@@ -379,7 +383,8 @@ void runRender(const RenderCommand& cmd) {
             const std::string part = partPath(base, shardIndex, shardCount);
             if (cluster::broadcast(cmd.skipExisting && fs::exists(part))) continue;
             std::unique_ptr<RenderScene> scene;
-            cluster::everywhere([&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
+            cluster::everywhere(
+                [&] { scene = std::make_unique<RenderScene>(spec, false, &volumes); });
             AovImage aovs;
             AovRequest withAlpha = aov;  // the coverage, for a background other than the backdrop
             withAlpha.alpha = spec.background.needsAlpha();
@@ -399,8 +404,9 @@ void runRender(const RenderCommand& cmd) {
                 {"lobe:background", spec.background.text}};
             if (spec.background.mode == Background::Mode::None) write.alpha = &aovs.alpha;
             writeFilmPending(part, film, spec.exposure, extra, write).commit();
-            if (!quiet) std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1,
-                                         spec.title.c_str(), part.c_str());
+            if (!quiet)
+                std::fprintf(stderr, "\nrows %d-%d of %s -> %s\n", y0, y1 - 1, spec.title.c_str(),
+                             part.c_str());
             continue;
         }
         if (cluster::broadcast(cmd.skipExisting &&
@@ -410,8 +416,9 @@ void runRender(const RenderCommand& cmd) {
             if (inSheet && root)
                 sheets[spec.group].push_back(
                     {thumbnailFromExr(base + ".exr", spec.tone, cmd.sheetThumb), spec.title});
-            if (!quiet) std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1,
-                                         specs.size(), base.c_str());
+            if (!quiet)
+                std::fprintf(stderr, "\n[%zu/%zu] %s: exists, skipped\n", i + 1, specs.size(),
+                             base.c_str());
             continue;
         }
         try {
@@ -427,9 +434,8 @@ void runRender(const RenderCommand& cmd) {
             } else {
                 assembled.reset();
                 progress.pause();
-                cluster::everywhere([&] {
-                    assembled = std::make_unique<RenderScene>(spec, !quiet, &volumes);
-                });
+                cluster::everywhere(
+                    [&] { assembled = std::make_unique<RenderScene>(spec, !quiet, &volumes); });
                 progress.resume();
             }
             RenderScene* const scene = assembled.get();
@@ -447,8 +453,9 @@ void runRender(const RenderCommand& cmd) {
             // In bands of rows (a poster: apps/figure_output.h), each written as it is done;
             // one band for an image up to 2048².
             std::unique_ptr<FigureWriter> writer;
-            if (root) writer = std::make_unique<FigureWriter>(cmd.figure, spec, base,
-                                                              inSheet ? cmd.sheetThumb : 0);
+            if (root)
+                writer = std::make_unique<FigureWriter>(cmd.figure, spec, base,
+                                                        inSheet ? cmd.sheetThumb : 0);
             const int bandRows = bandRowsFor(spec, cmd.figure.bandRows);
             for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
                 const int y1 = std::min(spec.height, y0 + bandRows);
@@ -471,14 +478,16 @@ void runRender(const RenderCommand& cmd) {
                                                     stats.volumeSamples > 0);
             const RgbImage& rgb = figure.display;
             if (!quiet && cluster::distributed())  // rank 0's counts are only its share
-                std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
-                                     "%s\n",
+                std::fprintf(stderr,
+                             "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s on %d processes -> "
+                             "%s\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                              spec.samplesPerPixel, stats.seconds, cluster::size(),
                              figure.written.c_str());
             else if (!quiet)
-                std::fprintf(stderr, "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
-                                     "samples (%.1f M shaded) -> %s\n",
+                std::fprintf(stderr,
+                             "\n[%zu/%zu] %s: %dx%d, %d spp, %.2f s, %.2f M rays, %.1f M volume "
+                             "samples (%.1f M shaded) -> %s\n",
                              i + 1, specs.size(), spec.title.c_str(), spec.width, spec.height,
                              spec.samplesPerPixel, stats.seconds, stats.rays * 1e-6,
                              stats.volumeSamples * 1e-6, stats.volumeShaded * 1e-6,
@@ -554,7 +563,8 @@ void runMerge(const RenderCommand& cmd) {
             for (int i = 0; i < count; ++i)
                 if (!parts.count(i))
                     throw Error(spec.path + ": part " + std::to_string(i) + " of " +
-                                std::to_string(count) + " is missing (" + partPath(base, i, count) + ")");
+                                std::to_string(count) + " is missing (" + partPath(base, i, count) +
+                                ")");
             const std::string sceneId = fingerprint(fileText(spec.path));
             const std::string settingsId = fingerprint(settingsText(spec, cmd.aov));
             FloatImage merged;
@@ -578,17 +588,20 @@ void runMerge(const RenderCommand& cmd) {
                     contentHashDifference(volumesId, part.attributes["lobe:volumes"]);
                 if (!differs.empty())
                     throw Error(path + ": rendered from other volume data than " +
-                                parts.begin()->second + ": " + differs + "; render the parts again");
+                                parts.begin()->second + ": " + differs +
+                                "; render the parts again");
                 if (part.attributes["lobe:settings"] != settingsId)
-                    throw Error(path + ": rendered with other settings (size, samples, seed, step, "
-                                "roulette or --aov) than asked for " + spec.path);
+                    throw Error(path +
+                                ": rendered with other settings (size, samples, seed, step, "
+                                "roulette or --aov) than asked for " +
+                                spec.path);
                 const int y0 = int(int64_t(i) * spec.height / count);
                 const int y1 = int(int64_t(i + 1) * spec.height / count);
                 if (part.attributes["lobe:rows"] != std::to_string(y0) + " " + std::to_string(y1) ||
                     part.width != spec.width || part.height != spec.height)
                     throw Error(path + ": not part " + std::to_string(i) + " of " +
-                                std::to_string(count) + " of a " + std::to_string(spec.width) + "x" +
-                                std::to_string(spec.height) + " image");
+                                std::to_string(count) + " of a " + std::to_string(spec.width) +
+                                "x" + std::to_string(spec.height) + " image");
                 if (i == 0) {
                     merged = std::move(part);
                     continue;
@@ -623,7 +636,8 @@ void runMerge(const RenderCommand& cmd) {
                 {thumbnailFromExr(base + ".exr", spec.tone, cmd.sheetThumb), spec.title});
     }
     for (const auto& [group, entries] : sheets) {
-        const std::string path = (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
+        const std::string path =
+            (fs::path(cmd.outDir) / ("contact-sheet-" + group + ".png")).string();
         writeContactSheet(path, entries, 3, cmd.sheetThumb);
         if (!cmd.quiet) std::fprintf(stderr, "contact sheet %s\n", path.c_str());
     }
@@ -684,8 +698,9 @@ void registerRenderCommand(CLI::App& app) {
 
     static RenderCommand cmd;
     CLI::App* sub = app.add_subcommand(
-        "render", "Render scene files (JSON) to EXR and PNG; several scenes or a folder make a "
-                  "batch with contact sheets per scene group");
+        "render",
+        "Render scene files (JSON) to EXR and PNG; several scenes or a folder make a "
+        "batch with contact sheets per scene group");
     sub->add_option("scenes", cmd.inputs, "scene files or folders of them");
     sub->add_option("--list", cmd.listFile, "a file listing scene files, one per line");
     sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
@@ -707,9 +722,10 @@ void registerRenderCommand(CLI::App& app) {
                     "I/N: render part I (0-based) of N — every N-th scene of a batch, or a band of "
                     "rows of one image written as NAME.part-I-of-N.exr; `lobe merge` joins them "
                     "(docs/cluster.md)");
-    sub->add_option("--aov", cmd.aov,
-                    "extra EXR passes: all, or a comma list of objects (each object's lambert and "
-                    "specular contribution), backdrop, depth, normal, id (object contributing most)");
+    sub->add_option(
+        "--aov", cmd.aov,
+        "extra EXR passes: all, or a comma list of objects (each object's lambert and "
+        "specular contribution), backdrop, depth, normal, id (object contributing most)");
     sub->add_option("--orbit", cmd.orbit,
                     "N: a turntable of each scene, N frames turned 360/N degrees apart about the "
                     "camera's up axis through the objects' centre, lights turning with the camera; "
@@ -724,8 +740,9 @@ void registerRenderCommand(CLI::App& app) {
 
     static RenderCommand merge;
     CLI::App* mergeSub = app.add_subcommand(
-        "merge", "Join what `lobe render --shard I/N` wrote (parts of one image, or a batch's "
-                 "scenes) into the files of one run, and write the contact sheets");
+        "merge",
+        "Join what `lobe render --shard I/N` wrote (parts of one image, or a batch's "
+        "scenes) into the files of one run, and write the contact sheets");
     mergeSub->add_option("scenes", merge.inputs, "the scene files given to the sharded renders");
     mergeSub->add_option("--list", merge.listFile, "a file listing scene files, one per line");
     mergeSub->add_option("--out", merge.outDir, "the output folder of the sharded renders")

@@ -4,11 +4,11 @@
 // docs/separation.md). Writes per scene <stem>.md, <stem>.csv, the beauty <stem>.png and the
 // per-pair maps <stem>/<a>_vs_<b>.png (A red, B green, overlap yellow); over all scenes
 // separation.csv (one row per scene). Every scene is read and checked before any is rendered.
+#include "analysis/overlap_report.h"
+#include "analysis/scene_passes.h"
 #include "apps/commands.h"
 #include "apps/output_folder.h"
 #include "apps/scene_overrides.h"
-#include "analysis/overlap_report.h"
-#include "analysis/scene_passes.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "render/render_scene.h"
@@ -39,7 +39,8 @@ struct SeparationCommand {
 
 std::string fileSafe(const std::string& s) {
     std::string out;
-    for (char c : s) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+    for (char c : s)
+        out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
     return out.empty() ? "object" : out;
 }
 
@@ -47,9 +48,12 @@ void runSeparation(const SeparationCommand& cmd) {
     cmd.overrides.validate();
     const SeparationMetric metric = parseSeparationMetric(cmd.metric);
     const bool itp = metric == SeparationMetric::Itp;
-    const double threshold = cmd.contrast > 0.0 ? cmd.contrast : itp ? kItpThreshold : kWeberContrast;
+    const double threshold = cmd.contrast > 0.0 ? cmd.contrast
+                             : itp              ? kItpThreshold
+                                                : kWeberContrast;
     if (!itp && !(threshold > 0.0 && threshold < 1.0))
-        throw Error("--contrast must be in (0, 1) for --metric weber, got " + std::to_string(threshold));
+        throw Error("--contrast must be in (0, 1) for --metric weber, got " +
+                    std::to_string(threshold));
     if (!(cmd.peak >= 1.0 && cmd.peak <= 10000.0))
         throw Error("--peak must be in [1, 10000] cd/m², got " + std::to_string(cmd.peak));
     if (cmd.scenes.empty()) throw Error("no scene given");

@@ -92,7 +92,8 @@ void runAnalyse(const AnalyseCommand& cmd) {
     // The plot first (the step that can fail), then the two tables.
     ImageWriteOptions png;
     png.attributes = toolProvenance();
-    PendingImage plot = writeImagePending((out / "study-results.png").string(), studyPlot(analysis), png);
+    PendingImage plot =
+        writeImagePending((out / "study-results.png").string(), studyPlot(analysis), png);
     writeTextFileAtomic((out / "study-results.csv").string(), studyCsv(analysis));
     writeTextFileAtomic((out / "study-results.md").string(), studyMarkdown(analysis, files));
     plot.commit();
@@ -116,15 +117,18 @@ void runSimulate(const SimulateCommand& cmd) {
     model.attentionPass = cmd.attentionPass;
     if (cmd.observers < 1) throw Error("--observers must be at least 1");
     if (cmd.prefix.empty() ||
-        cmd.prefix.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_") !=
+        cmd.prefix.find_first_not_of(
+            "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_") !=
             std::string::npos)
         throw Error("--prefix: letters, digits, '-' and '_' only, got '" + cmd.prefix + "'");
     std::vector<std::string> texts;
     for (int o = 0; o < cmd.observers; ++o)
-        texts.push_back(simulateStudyAnswers(studyJson, model, o, cmd.seed, cmd.prefix + std::to_string(o)));
+        texts.push_back(
+            simulateStudyAnswers(studyJson, model, o, cmd.seed, cmd.prefix + std::to_string(o)));
     createOutputFolder(cmd.outDir);
     for (int o = 0; o < cmd.observers; ++o) {
-        const std::string path = (fs::path(cmd.outDir) / (cmd.prefix + std::to_string(o) + ".json")).string();
+        const std::string path =
+            (fs::path(cmd.outDir) / (cmd.prefix + std::to_string(o) + ".json")).string();
         if (!writeTextFileAtomic(path, texts[size_t(o)], true))
             throw Error("'" + path + "' exists: give a new --out folder");
     }
@@ -136,9 +140,10 @@ void runSimulate(const SimulateCommand& cmd) {
 void registerStudyCommand(CLI::App& app) {
     static StudyRequest study;
     CLI::App* sub = app.add_subcommand(
-        "study", "A perception study of the scenes with people: renders the stimuli and writes a "
-                 "self-contained web page (2AFC pairs, marker task); `serve` collects answers, "
-                 "`analyse` scales them to JOD (docs/study.md)");
+        "study",
+        "A perception study of the scenes with people: renders the stimuli and writes a "
+        "self-contained web page (2AFC pairs, marker task); `serve` collects answers, "
+        "`analyse` scales them to JOD (docs/study.md)");
     sub->add_option("scenes", study.scenes, "scene files, one per condition");
     sub->add_option("--out", study.outDir, "the study folder to write (new)");
     sub->add_option("--task", study.task,
@@ -163,9 +168,10 @@ void registerStudyCommand(CLI::App& app) {
         ->capture_default_str();
     study.overrides.addOptions(*sub);
     sub->add_flag("--quiet", study.quiet, "no progress display");
-    sub->footer("Open DIR/index.html in a browser (answers are downloaded as a JSON file), or run "
-                "`lobe study serve DIR` and open the address it prints (answers are stored in "
-                "DIR/answers).");
+    sub->footer(
+        "Open DIR/index.html in a browser (answers are downloaded as a JSON file), or run "
+        "`lobe study serve DIR` and open the address it prints (answers are stored in "
+        "DIR/answers).");
     sub->callback([sub] {
         if (sub->get_subcommands().empty()) {
             if (study.scenes.empty()) throw Error("lobe study: no scene file given");
@@ -176,14 +182,17 @@ void registerStudyCommand(CLI::App& app) {
 
     static StudyServerOptions serve;
     CLI::App* serveSub = sub->add_subcommand(
-        "serve", "Serve a study folder over HTTP on this machine and store each participant's "
-                 "answers in DIR/answers (the page's own requests only)");
-    serveSub->add_option("dir", serve.dir, "the study folder (written by `lobe study`)")->required();
+        "serve",
+        "Serve a study folder over HTTP on this machine and store each participant's "
+        "answers in DIR/answers (the page's own requests only)");
+    serveSub->add_option("dir", serve.dir, "the study folder (written by `lobe study`)")
+        ->required();
     serveSub->add_option("--port", serve.port, "TCP port (0: any free port)")
         ->capture_default_str()
         ->check(CLI::Range(0, 65535));
-    serveSub->add_option("--host", serve.host,
-                         "address to bind: a loopback address unless --allow-remote")
+    serveSub
+        ->add_option("--host", serve.host,
+                     "address to bind: a loopback address unless --allow-remote")
         ->capture_default_str();
     serveSub->add_flag("--allow-remote", serve.allowRemote,
                        "allow a non-loopback --host (anyone reaching the port can post answers)");
@@ -192,10 +201,12 @@ void registerStudyCommand(CLI::App& app) {
 
     static AnalyseCommand analyse;
     CLI::App* analyseSub = sub->add_subcommand(
-        "analyse", "Scale the pair answers to JOD (Thurstone case V, bootstrap intervals) and score "
-                   "the marker task (Wilson intervals); Markdown, CSV and a PNG plot");
+        "analyse",
+        "Scale the pair answers to JOD (Thurstone case V, bootstrap intervals) and score "
+        "the marker task (Wilson intervals); Markdown, CSV and a PNG plot");
     analyseSub->alias("analyze");
-    analyseSub->add_option("answers", analyse.inputs, "answers files or folders of them")->required();
+    analyseSub->add_option("answers", analyse.inputs, "answers files or folders of them")
+        ->required();
     analyseSub->add_option("--out", analyse.outDir, "output folder")->required();
     analyseSub->add_option("--bootstrap", analyse.options.bootstrapSamples, "bootstrap resamples")
         ->capture_default_str()
@@ -204,8 +215,9 @@ void registerStudyCommand(CLI::App& app) {
     analyseSub->add_option("--level", analyse.options.level, "confidence level of the intervals")
         ->capture_default_str()
         ->check(CLI::Range(0.5, 0.999));
-    analyseSub->add_option("--max-failed-checks", analyse.options.maxFailedChecks,
-                           "participants failing more attention checks are excluded")
+    analyseSub
+        ->add_option("--max-failed-checks", analyse.options.maxFailedChecks,
+                     "participants failing more attention checks are excluded")
         ->capture_default_str()
         ->check(CLI::Range(0, 1000));
     analyseSub->add_flag("--quiet", analyse.quiet, "do not print the table");
@@ -213,21 +225,27 @@ void registerStudyCommand(CLI::App& app) {
 
     static SimulateCommand simulate;
     CLI::App* simSub = sub->add_subcommand(
-        "simulate", "Answer a study's trials with simulated observers (Thurstone case V choices "
-                    "from given JOD values): for checking an analysis and for docs/study.md");
+        "simulate",
+        "Answer a study's trials with simulated observers (Thurstone case V choices "
+        "from given JOD values): for checking an analysis and for docs/study.md");
     simSub->add_option("dir", simulate.studyDir, "the study folder (its study.json)")->required();
-    simSub->add_option("--jod", simulate.jod, "Q0,Q1,…: each condition's quality in JOD")->required();
-    simSub->add_option("--accuracy", simulate.accuracy,
-                       "P0,P1,…: each condition's probability of naming the marked object (default 1)");
-    simSub->add_option("--attention-pass", simulate.attentionPass,
-                       "probability of passing each attention check")
+    simSub->add_option("--jod", simulate.jod, "Q0,Q1,…: each condition's quality in JOD")
+        ->required();
+    simSub->add_option(
+        "--accuracy", simulate.accuracy,
+        "P0,P1,…: each condition's probability of naming the marked object (default 1)");
+    simSub
+        ->add_option("--attention-pass", simulate.attentionPass,
+                     "probability of passing each attention check")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     simSub->add_option("--observers", simulate.observers, "simulated participants")
         ->capture_default_str();
-    simSub->add_option("--seed", simulate.seed, "seed of the simulated choices")->capture_default_str();
-    simSub->add_option("--prefix", simulate.prefix,
-                       "participant ids and file names: PREFIX0, PREFIX1, … (PREFIXK.json)")
+    simSub->add_option("--seed", simulate.seed, "seed of the simulated choices")
+        ->capture_default_str();
+    simSub
+        ->add_option("--prefix", simulate.prefix,
+                     "participant ids and file names: PREFIX0, PREFIX1, … (PREFIXK.json)")
         ->capture_default_str();
     simSub->add_option("--out", simulate.outDir, "folder for the answers files")->required();
     simSub->callback([] { runSimulate(simulate); });

@@ -9,8 +9,12 @@
 namespace lobe {
 
 BoxResizer::BoxResizer(int sourceWidth, int sourceHeight, int width, int height)
-    : sourceWidth_(sourceWidth), sourceHeight_(sourceHeight), width_(width), height_(height),
-      sums_(size_t(width) * size_t(height) * 3, 0.0), counts_(size_t(width) * size_t(height), 0) {
+    : sourceWidth_(sourceWidth),
+      sourceHeight_(sourceHeight),
+      width_(width),
+      height_(height),
+      sums_(size_t(width) * size_t(height) * 3, 0.0),
+      counts_(size_t(width) * size_t(height), 0) {
     // Every source pixel the destination pixel covers (at least one).
     const double sx = double(sourceWidth) / width, sy = double(sourceHeight) / height;
     for (int x = 0; x < width; ++x) {
@@ -29,7 +33,8 @@ void BoxResizer::addRows(const RgbImage& band) {
     if (band.width != sourceWidth_ || nextRow_ + band.height > sourceHeight_)
         throw Error("internal: a band of " + std::to_string(band.width) + " x " +
                     std::to_string(band.height) + " does not continue a " +
-                    std::to_string(sourceWidth_) + " x " + std::to_string(sourceHeight_) + " image");
+                    std::to_string(sourceWidth_) + " x " + std::to_string(sourceHeight_) +
+                    " image");
     for (int r = 0; r < band.height; ++r) {
         const int v = nextRow_ + r;
         // Source rows ascending, and within a row columns ascending: resizeImage's order.

@@ -51,18 +51,20 @@ std::string costMarkdown(const std::vector<CostRun>& runs, int target, int threa
     const CostRun& base = runs.front();
     const SceneSpec& spec = base.spec;
     const RenderCost& c = base.cost;
-    std::string md = format("## Cost of %s\n\n", std::filesystem::path(spec.path).filename().c_str());
-    md += format("%dx%d, %d spp, %s threads%s: wall %.3f s, CPU %.3f s.\n\n", spec.width,
-                 spec.height, spec.samplesPerPixel,
-                 threads > 0 ? std::to_string(threads).c_str() : "all",
-                 repeat > 1 ? format(", fastest of %d", repeat).c_str() : "", c.wallSeconds,
-                 c.cpuSeconds);
+    std::string md =
+        format("## Cost of %s\n\n", std::filesystem::path(spec.path).filename().c_str());
+    md += format(
+        "%dx%d, %d spp, %s threads%s: wall %.3f s, CPU %.3f s.\n\n", spec.width, spec.height,
+        spec.samplesPerPixel, threads > 0 ? std::to_string(threads).c_str() : "all",
+        repeat > 1 ? format(", fastest of %d", repeat).c_str() : "", c.wallSeconds, c.cpuSeconds);
     md += "| part | CPU s | share |\n|---|---:|---:|\n";
     for (const Part& p : partsOf(c))
-        md += format("| %s | %.3f | %.1f %% |\n", p.title, p.seconds, share(p.seconds, c.cpuSeconds));
+        md +=
+            format("| %s | %.3f | %.1f %% |\n", p.title, p.seconds, share(p.seconds, c.cpuSeconds));
     md += format("| total | %.3f | 100 %% |\n\n", c.cpuSeconds);
-    md += "| object | model | shaded points | BRDF evaluations | shading CPU s | ns / evaluation |\n"
-          "|---|---|---:|---:|---:|---:|\n";
+    md +=
+        "| object | model | shaded points | BRDF evaluations | shading CPU s | ns / evaluation |\n"
+        "|---|---|---:|---:|---:|---:|\n";
     for (size_t i = 0; i < spec.objects.size() && i < c.objects.size(); ++i) {
         const ObjectCost& o = c.objects[i];
         md += format("| %s | %s | %lld | %lld | %.3f | %s |\n", spec.objects[i].name.c_str(),
@@ -72,14 +74,16 @@ std::string costMarkdown(const std::vector<CostRun>& runs, int target, int threa
     if (runs.size() > 1 && target >= 0) {
         const std::string& name = spec.objects[size_t(target)].name;
         md += format("\n### Models on '%s'\n\n", name.c_str());
-        md += format("| model | BRDF evaluations | shading CPU s (%s) | ns / evaluation | shading CPU "
-                     "s (all) | render CPU s | render CPU vs. scene | wall s |\n"
-                     "|---|---:|---:|---:|---:|---:|---:|---:|\n",
-                     name.c_str());
+        md += format(
+            "| model | BRDF evaluations | shading CPU s (%s) | ns / evaluation | shading CPU "
+            "s (all) | render CPU s | render CPU vs. scene | wall s |\n"
+            "|---|---:|---:|---:|---:|---:|---:|---:|\n",
+            name.c_str());
         for (const CostRun& run : runs) {
             const ObjectCost& o = run.cost.objects[size_t(target)];
-            const std::string label =
-                run.label == "scene" ? run.spec.objects[size_t(target)].brdfModel + " (scene)" : run.label;
+            const std::string label = run.label == "scene"
+                                          ? run.spec.objects[size_t(target)].brdfModel + " (scene)"
+                                          : run.label;
             md += format("| %s | %lld | %.3f | %s | %.3f | %.3f | %.2f | %.3f |\n", label.c_str(),
                          o.brdfEvaluations, o.shadingSeconds, nsPerEvaluation(o).c_str(),
                          run.cost.shading, run.cost.cpuSeconds,

@@ -11,11 +11,11 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #ifndef LOBE_VERSION
@@ -26,7 +26,6 @@ namespace lobe {
 namespace {
 
 namespace fs = std::filesystem;
-
 
 bool isExr(const std::string& path) { return lowerExtension(path) == ".exr"; }
 
@@ -54,7 +53,8 @@ void FigureOptions::addOptions(CLI::App& sub, const std::string& outOption) {
         "a single scene's image file; its extension picks the format (.png, .jpg, .tif, .exr); "
         "only that file is written (add --exr for the EXR beside it)");
     if (CLI::Option* out = sub.get_option_no_throw(outOption)) o->excludes(out);
-    sub.add_flag("--exr", withExr, "with -o FILE.png/.jpg/.tif: also write FILE.exr (linear floats)");
+    sub.add_flag("--exr", withExr,
+                 "with -o FILE.png/.jpg/.tif: also write FILE.exr (linear floats)");
     sub.add_option("--png-bits", pngBits, "bits per channel of PNG (and TIFF) output: 8 or 16")
         ->capture_default_str()
         ->check(CLI::IsMember({8, 16}));
@@ -71,7 +71,8 @@ void FigureOptions::addOptions(CLI::App& sub, const std::string& outOption) {
 void FigureOptions::validate(size_t sceneCount, bool sharded) const {
     if (pngBits != 8 && pngBits != 16) throw Error("--png-bits must be 8 or 16");
     if (!background.empty()) parseBackground(background, "--background");
-    if (withExr && output.empty()) throw Error("--exr goes with -o FILE (without -o both are written)");
+    if (withExr && output.empty())
+        throw Error("--exr goes with -o FILE (without -o both are written)");
     if (bandRows < 0) throw Error("--band-rows must be >= 0");
     if (bandRows > 0 && sharded)
         throw Error("--band-rows: not with --shard (a part is a band of rows already)");
@@ -79,7 +80,8 @@ void FigureOptions::validate(size_t sceneCount, bool sharded) const {
     if (sceneCount != 1)
         throw Error("-o " + output + ": names one image, but " + std::to_string(sceneCount) +
                     " scenes were given (use --out DIR for a batch)");
-    if (sharded) throw Error("-o " + output + ": not with --shard (parts are joined by `lobe merge`)");
+    if (sharded)
+        throw Error("-o " + output + ": not with --shard (parts are joined by `lobe merge`)");
     if (!isSupportedImageExtension(output))
         throw Error("-o " + output + ": unsupported image extension '" + lowerExtension(output) +
                     "' (use .png, .jpg, .tif or .exr)");
@@ -97,8 +99,8 @@ void FigureOptions::apply(SceneSpec& spec) const {
     if (!background.empty()) spec.background = parseBackground(background, "--background");
     const std::string ext = lowerExtension(output);
     if (spec.background.mode == Background::Mode::None && (ext == ".jpg" || ext == ".jpeg"))
-        throw Error(spec.path + ": background none needs an alpha channel, which JPEG (-o " + output +
-                    ") has not: write .png, .tif or .exr, or give a background colour");
+        throw Error(spec.path + ": background none needs an alpha channel, which JPEG (-o " +
+                    output + ") has not: write .png, .tif or .exr, or give a background colour");
 }
 
 std::vector<std::string> FigureOptions::outputPaths(const std::string& base) const {
@@ -152,8 +154,8 @@ ImageAttributes galleryProvenance(const GalleryOptions& options) {
                   options.lightIntensity);
     std::string text = settings;
     for (const std::string& set : options.settings) text += " set " + set;
-    return toolProvenance({{"lobe:seed", std::to_string(options.seed)},
-                           {"lobe:render_settings", text}});
+    return toolProvenance(
+        {{"lobe:seed", std::to_string(options.seed)}, {"lobe:render_settings", text}});
 }
 
 void writeGalleryFiles(const std::string& base, const Gallery& gallery,
@@ -309,9 +311,10 @@ int warnInvisibleObjects(const RenderScene& scene) {
             double lo = std::numeric_limits<double>::infinity(), hi = -lo;
             for (size_t i = 0; i < points.size(); ++i) {
                 if (!(points[i].opacity > 0.0)) continue;
-                lo = std::min(lo, i == 0 ? -std::numeric_limits<double>::infinity() : points[i - 1].value);
+                lo = std::min(
+                    lo, i == 0 ? -std::numeric_limits<double>::infinity() : points[i - 1].value);
                 hi = std::max(hi, i + 1 == points.size() ? std::numeric_limits<double>::infinity()
-                                                          : points[i + 1].value);
+                                                         : points[i + 1].value);
             }
             float vmin = 0.0f, vmax = 0.0f;
             bool any = false;
@@ -331,11 +334,12 @@ int warnInvisibleObjects(const RenderScene& scene) {
             ++count;
             continue;
         }
-        std::fprintf(stderr,
-                     "lobe: warning: %s: objects[%d] (%s): its transfer function gives opacity 0 to "
-                     "every voxel of its volume, so it cannot be seen (check the transfer "
-                     "function's values against `lobe info` of the source)\n",
-                     spec.path.c_str(), vo.objectIndex, vo.spec->name.c_str());
+        std::fprintf(
+            stderr,
+            "lobe: warning: %s: objects[%d] (%s): its transfer function gives opacity 0 to "
+            "every voxel of its volume, so it cannot be seen (check the transfer "
+            "function's values against `lobe info` of the source)\n",
+            spec.path.c_str(), vo.objectIndex, vo.spec->name.c_str());
         ++count;
     }
     return count;
@@ -343,10 +347,11 @@ int warnInvisibleObjects(const RenderScene& scene) {
 
 bool warnIfEmpty(const SceneSpec& spec, bool covered) {
     if (covered) return false;
-    std::fprintf(stderr,
-                 "lobe: warning: %s: the image is empty: no object covers any pixel (every pixel is "
-                 "background; check the camera and the objects)\n",
-                 spec.path.c_str());
+    std::fprintf(
+        stderr,
+        "lobe: warning: %s: the image is empty: no object covers any pixel (every pixel is "
+        "background; check the camera and the objects)\n",
+        spec.path.c_str());
     return true;
 }
 

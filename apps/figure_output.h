@@ -81,9 +81,9 @@ int bandRowsFor(const SceneSpec& spec, int requested);
 // it removes them: no partial file under a final name, and no file replaced. With a colour
 // background each band's film is composited over it (the film is changed).
 struct FigureResult {
-    RgbImage display;     // the contact-sheet thumbnail (empty without one)
-    std::string written;  // "out/a.png/.exr" or the -o paths
-    bool covered = false; // some pixel has coverage > 0 (when the coverage was rendered)
+    RgbImage display;      // the contact-sheet thumbnail (empty without one)
+    std::string written;   // "out/a.png/.exr" or the -o paths
+    bool covered = false;  // some pixel has coverage > 0 (when the coverage was rendered)
 };
 class FigureWriter {
 public:
@@ -120,7 +120,8 @@ ImageAttributes toolProvenance(const ImageAttributes& more = {});
 ImageAttributes galleryProvenance(const GalleryOptions& options);
 // BASE.exr and BASE.png of a rendered gallery, with galleryProvenance (both written, then both
 // put in place). For `lobe gallery` and `lobe demo`.
-void writeGalleryFiles(const std::string& base, const Gallery& gallery, const GalleryOptions& options);
+void writeGalleryFiles(const std::string& base, const Gallery& gallery,
+                       const GalleryOptions& options);
 // A contact sheet's: lobe:sheet_captions, its cells' captions one a line.
 ImageAttributes sheetProvenance(const std::vector<std::string>& captions);
 

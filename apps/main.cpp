@@ -31,8 +31,9 @@ int fail(int code, const char* kind, const std::string& message) {
 }
 
 int run(int argc, char** argv) {
-    CLI::App app{"Lobe: renders medical volume data in which every object has its own BRDF.\n"
-                 "Run 'lobe COMMAND --help' for the options of one command."};
+    CLI::App app{
+        "Lobe: renders medical volume data in which every object has its own BRDF.\n"
+        "Run 'lobe COMMAND --help' for the options of one command."};
     app.require_subcommand(1);
     app.set_version_flag("--version", "lobe 0.1.0");
     lobe::registerBrdfCommand(app);
@@ -64,8 +65,10 @@ int run(int argc, char** argv) {
     } catch (const std::bad_alloc&) {
         // An allocation beyond what the process may use (ulimit -v, a cgroup's memory.max as
         // Slurm's --mem sets): say so, with the limit, rather than "std::bad_alloc".
-        return fail(1, "error", lobe::outOfMemoryText() + "; use a smaller image, fewer samples "
-                                "per band (--band-rows), or more memory");
+        return fail(1, "error",
+                    lobe::outOfMemoryText() +
+                        "; use a smaller image, fewer samples "
+                        "per band (--band-rows), or more memory");
     } catch (const std::filesystem::filesystem_error& e) {
         // A path the system refuses (a symbolic link loop, a permission) wherever it was met:
         // the path and the reason, an input error like any other.

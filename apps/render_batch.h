@@ -12,9 +12,9 @@ namespace lobe {
 struct RenderBatchRequest {
     std::vector<std::string> scenes;  // scene files (as `lobe render SCENE…`)
     std::string outDir;
-    SceneOverrides overrides;         // --width, --spp, …
-    int orbit = 0;                    // --orbit N
-    std::string aov;                  // --aov LIST
+    SceneOverrides overrides;  // --width, --spp, …
+    int orbit = 0;             // --orbit N
+    std::string aov;           // --aov LIST
     bool quiet = false;
 };
 // One image rendered: its scene file, title and output name (BASE.png, BASE.exr).

@@ -13,8 +13,10 @@ namespace {
 
 // "plane:x,y,z,nx,ny,nz" or "box:x0,y0,z0,x1,y1,z1", then optional ":invert" and ":cap".
 ClipShape parseClipOption(const std::string& text) {
-    const std::string form = "--clip: expected plane:x,y,z,nx,ny,nz or box:x0,y0,z0,x1,y1,z1, "
-                             "optionally followed by :invert and :cap; got '" + text + "'";
+    const std::string form =
+        "--clip: expected plane:x,y,z,nx,ny,nz or box:x0,y0,z0,x1,y1,z1, "
+        "optionally followed by :invert and :cap; got '" +
+        text + "'";
     std::vector<std::string> parts;
     size_t start = 0;
     for (size_t i = 0; i <= text.size(); ++i)
@@ -31,7 +33,8 @@ ClipShape parseClipOption(const std::string& text) {
         const std::string item = numbers.substr(pos, comma - pos);
         char* end = nullptr;
         const double x = std::strtod(item.c_str(), &end);
-        if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(x)) throw Error(form);
+        if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(x))
+            throw Error(form);
         v.push_back(x);
         pos = comma + 1;
     }
@@ -41,7 +44,8 @@ ClipShape parseClipOption(const std::string& text) {
         s.kind = ClipShape::Kind::Plane;
         s.point = Vec3(v[0], v[1], v[2]);
         s.normal = Vec3(v[3], v[4], v[5]);
-        if (!(s.normal.length() > 0.0)) throw Error("--clip: the plane's normal must not be zero ('" + text + "')");
+        if (!(s.normal.length() > 0.0))
+            throw Error("--clip: the plane's normal must not be zero ('" + text + "')");
         s.normal.normalize();
     } else {
         s.kind = ClipShape::Kind::Box;
@@ -51,9 +55,12 @@ ClipShape parseClipOption(const std::string& text) {
             throw Error("--clip: the box needs x0 < x1, y0 < y1, z0 < z1 ('" + text + "')");
     }
     for (size_t i = 2; i < parts.size(); ++i) {
-        if (parts[i] == "invert") s.invert = true;
-        else if (parts[i] == "cap") s.cap = true;
-        else throw Error(form);
+        if (parts[i] == "invert")
+            s.invert = true;
+        else if (parts[i] == "cap")
+            s.cap = true;
+        else
+            throw Error(form);
     }
     return s;
 }
@@ -62,12 +69,14 @@ ClipShape parseClipOption(const std::string& text) {
 
 void SceneOverrides::addOptions(CLI::App& sub) {
     // Ranges are checked when an option is given (0 / −1 defaults mean "the scene's own").
-    sub.add_option("--width", width, "image width (overrides the scenes; keeps the aspect unless "
-                                     "--height is given too)")
+    sub.add_option("--width", width,
+                   "image width (overrides the scenes; keeps the aspect unless "
+                   "--height is given too)")
         ->check(CLI::Range(1, 16384));
     sub.add_option("--height", height, "image height (overrides the scenes)")
         ->check(CLI::Range(1, 16384));
-    sub.add_option("--spp", spp, "samples per pixel (overrides the scenes)")->check(CLI::Range(1, 4096));
+    sub.add_option("--spp", spp, "samples per pixel (overrides the scenes)")
+        ->check(CLI::Range(1, 4096));
     sub.add_option("--step", step, "volume step in voxels, 0.001-16 (overrides the scenes)")
         ->check(CLI::Range(0.001, 16.0));
     sub.add_option("--seed", seed, "random seed, 0-2147483647 (overrides the scenes)")

@@ -10,6 +10,7 @@
 #include "render/scene_file.h"
 
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -17,7 +18,6 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <unistd.h>
 
 namespace lobe {
 
@@ -92,7 +92,8 @@ const char* studyPageTemplate() { return kStudyPageHtml; }
 std::string studyPage(const std::string& studyJson) {
     std::string page = kStudyPageHtml;
     const size_t at = page.find(kMarker);
-    if (at == std::string::npos) throw Error("internal: the study page template has no study marker");
+    if (at == std::string::npos)
+        throw Error("internal: the study page template has no study marker");
     std::string safe;
     for (size_t i = 0; i < studyJson.size(); ++i) {
         if (studyJson[i] == '<' && i + 1 < studyJson.size() && studyJson[i + 1] == '/') {
@@ -161,8 +162,8 @@ void buildStudy(const StudyRequest& r) {
         r.overrides.apply(spec);
         const std::string name = fs::path(scene).stem().string();
         if (nameOf.count(name))
-            throw Error("scenes '" + nameOf[name] + "' and '" + scene + "' are both called '" + name +
-                        "': a study's conditions need distinct file names");
+            throw Error("scenes '" + nameOf[name] + "' and '" + scene + "' are both called '" +
+                        name + "': a study's conditions need distinct file names");
         nameOf[name] = scene;
         specs.push_back(std::move(spec));
     }
@@ -198,14 +199,17 @@ void buildStudy(const StudyRequest& r) {
         json conditions = json::array();
         json trials = json::array();
         Rng rng(mixBits(r.seed), 0x57d1);
-        const auto draw = [&](size_t n) { return std::min(n - 1, size_t(rng.uniform() * double(n))); };
+        const auto draw = [&](size_t n) {
+            return std::min(n - 1, size_t(rng.uniform() * double(n)));
+        };
         std::vector<std::vector<std::string>> objectNames;
         for (size_t c = 0; c < specs.size(); ++c) {
             json frames = json::array();
             std::string first;
             for (const RenderedImage& image : images)
                 if (fs::path(image.scene) == fs::path(specs[c].path)) {
-                    frames.push_back("stimuli/" + fs::path(image.base).filename().string() + ".png");
+                    frames.push_back("stimuli/" + fs::path(image.base).filename().string() +
+                                     ".png");
                     if (first.empty()) first = image.base;
                 }
             if (frames.empty()) throw Error(specs[c].path + ": no image was rendered");
@@ -222,11 +226,13 @@ void buildStudy(const StudyRequest& r) {
             const auto layers = specularLuminance(first + ".exr", names.size());
             int placed = 0;
             for (size_t o = 0; o < names.size(); ++o) {
-                const MarkerSpot spot = highlightMarker(layers, specs[c].width, specs[c].height, int(o));
+                const MarkerSpot spot =
+                    highlightMarker(layers, specs[c].width, specs[c].height, int(o));
                 if (!spot.found) {
                     if (!r.quiet)
-                        std::fprintf(stderr, "lobe: note: %s: the highlight of '%s' dominates nowhere: "
-                                             "no marker trial for it\n",
+                        std::fprintf(stderr,
+                                     "lobe: note: %s: the highlight of '%s' dominates nowhere: "
+                                     "no marker trial for it\n",
                                      specs[c].path.c_str(), names[o].c_str());
                     continue;
                 }
@@ -239,7 +245,8 @@ void buildStudy(const StudyRequest& r) {
                                   {"options", names}});
             }
             if (placed == 0)
-                throw Error(specs[c].path + ": no object's highlight dominates anywhere in the image, "
+                throw Error(specs[c].path +
+                            ": no object's highlight dominates anywhere in the image, "
                             "so the marker task has no trial for it");
         }
         if (pairs)
@@ -249,21 +256,25 @@ void buildStudy(const StudyRequest& r) {
                         trials.push_back({{"kind", "pair"}, {"a", i}, {"b", j}});
         // Attention checks (instructed-response items: the prompt names the answer to give;
         // D. M. Oppenheimer, T. Meyvis & N. Davidenko, "Instructional manipulation checks", J. Exp.
-        // Social Psychology 45(4), 2009): in a pair study over two random conditions, naming a side;
-        // in a marker study over a random condition, naming one of its objects.
+        // Social Psychology 45(4), 2009): in a pair study over two random conditions, naming a
+        // side; in a marker study over a random condition, naming one of its objects.
         for (int k = 0; k < r.checks; ++k) {
             if (pairs) {
                 const size_t a = draw(specs.size());
                 size_t b = draw(specs.size() - 1);
                 if (b >= a) ++b;
-                trials.push_back({{"kind", "attention"}, {"a", a}, {"b", b},
+                trials.push_back({{"kind", "attention"},
+                                  {"a", a},
+                                  {"b", b},
                                   {"instructed", rng.uniform() < 0.5 ? "left" : "right"}});
             }
             if (markers) {
                 const size_t c = draw(specs.size());
                 const std::vector<std::string>& names = objectNames[c];
-                trials.push_back({{"kind", "attention"}, {"condition", c},
-                                  {"instructed", names[draw(names.size())]}, {"options", names}});
+                trials.push_back({{"kind", "attention"},
+                                  {"condition", c},
+                                  {"instructed", names[draw(names.size())]},
+                                  {"options", names}});
             }
         }
         json study;
@@ -297,8 +308,8 @@ void buildStudy(const StudyRequest& r) {
         throw;
     }
     if (!r.quiet)
-        std::fprintf(stderr, "study: %zu conditions, %zu trials -> %s\n", conditionCount, trialCount,
-                     (out / "index.html").c_str());
+        std::fprintf(stderr, "study: %zu conditions, %zu trials -> %s\n", conditionCount,
+                     trialCount, (out / "index.html").c_str());
 }
 
 }  // namespace lobe

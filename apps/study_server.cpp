@@ -4,10 +4,9 @@
 #include "apps/study_page.h"
 #include "core/error.h"
 
+#include <arpa/inet.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
-
-#include <arpa/inet.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -82,7 +81,8 @@ void serveStudy(const StudyServerOptions& options) {
     const fs::path dir(options.dir);
     const fs::path studyPath = dir / "study.json";
     if (!fs::is_regular_file(studyPath) || !fs::is_regular_file(dir / "index.html"))
-        throw Error("'" + options.dir + "' holds no study (index.html and study.json, written by "
+        throw Error("'" + options.dir +
+                    "' holds no study (index.html and study.json, written by "
                     "`lobe study SCENES… --out DIR`)");
     json study;
     try {
@@ -113,7 +113,8 @@ void serveStudy(const StudyServerOptions& options) {
     std::mutex saving;
     server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
         using Handled = httplib::Server::HandlerResponse;
-        if (req.target.find("..") != std::string::npos || req.path.find("..") != std::string::npos) {
+        if (req.target.find("..") != std::string::npos ||
+            req.path.find("..") != std::string::npos) {
             refuse(res, 403, "paths with '..' are refused");
             return Handled::Handled;
         }
@@ -163,8 +164,9 @@ void serveStudy(const StudyServerOptions& options) {
             return;
         }
         if (size_t(answers.trials()) != trialCount) {
-            refuse(res, 400, "answers to " + std::to_string(answers.trials()) + " of " +
-                                 std::to_string(trialCount) + " trials");
+            refuse(res, 400,
+                   "answers to " + std::to_string(answers.trials()) + " of " +
+                       std::to_string(trialCount) + " trials");
             return;
         }
         std::lock_guard<std::mutex> lock(saving);
@@ -192,8 +194,8 @@ void serveStudy(const StudyServerOptions& options) {
         throw Error("cannot bind to " + options.host + ":" + std::to_string(port) +
                     " (in use? try another --port)");
     }
-    const std::string hostPart = options.host.find(':') != std::string::npos ? "[" + options.host + "]"
-                                                                            : options.host;
+    const std::string hostPart =
+        options.host.find(':') != std::string::npos ? "[" + options.host + "]" : options.host;
     const std::string origin = "http://" + hostPart + ":" + std::to_string(port);
     std::printf("serving %s/ (answers into %s; Ctrl-C stops)\n", origin.c_str(),
                 answersDir.string().c_str());

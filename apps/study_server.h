@@ -3,10 +3,11 @@
 // requests only — GET of the page and of the stimuli study.json lists, POST of a participant's
 // answers — and nothing else: any other path is 404, a path with ".." 403, a POST from another
 // origin than the page's 403, and (on loopback) a request naming a non-loopback host 403 (a
-// page of another site whose name was re-pointed at 127.0.0.1, "DNS rebinding"). Each participant's answers (checked: this study's fingerprint and every trial
-// answered) are stored as DIR/answers/<participant>.json, written completely under a temporary
-// name and linked into place, never over an existing file (a second file of the same participant
-// becomes <participant>-2.json, …). It binds to a loopback address unless --allow-remote is given.
+// page of another site whose name was re-pointed at 127.0.0.1, "DNS rebinding"). Each participant's
+// answers (checked: this study's fingerprint and every trial answered) are stored as
+// DIR/answers/<participant>.json, written completely under a temporary name and linked into place,
+// never over an existing file (a second file of the same participant becomes <participant>-2.json,
+// …). It binds to a loopback address unless --allow-remote is given.
 #pragma once
 
 #include <string>

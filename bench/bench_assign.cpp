@@ -12,10 +12,10 @@
 //     own assignment and 16 random starts) against exhaustive search of all assignments, and on
 //     random 3-object subsets (the other three held at random models) against exhaustive search.
 // A Markdown report on stdout.
-#include "bench/bench_common.h"
 #include "analysis/overlap_ranking.h"
 #include "analysis/properties.h"
 #include "analysis/scene_passes.h"
+#include "bench/bench_common.h"
 #include "core/rng.h"
 #include "materials/registry.h"
 #include "render/render_scene.h"
@@ -135,21 +135,34 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
-        if (a == "--size") size = next();
-        else if (a == "--spp") spp = next();
-        else if (a == "--threads") threads = next();
-        else if (a == "--many-size") manySize = next();
-        else if (a == "--subsets") subsets = next();
-        else if (a == "--tune-size") tuneSize = next();
-        else if (a == "--skip-full") skipFull = true;
-        else if (a == "--paper-dir" && i + 1 < argc) paperDir = argv[++i];
-        else if (a == "--only-renderings") onlyRenderings = true;
-        else if (a == "--kendall") kendall = true;
-        else if (a == "--albedo" && i + 1 < argc) kendallAlbedo = std::atof(argv[++i]);
+        if (a == "--size")
+            size = next();
+        else if (a == "--spp")
+            spp = next();
+        else if (a == "--threads")
+            threads = next();
+        else if (a == "--many-size")
+            manySize = next();
+        else if (a == "--subsets")
+            subsets = next();
+        else if (a == "--tune-size")
+            tuneSize = next();
+        else if (a == "--skip-full")
+            skipFull = true;
+        else if (a == "--paper-dir" && i + 1 < argc)
+            paperDir = argv[++i];
+        else if (a == "--only-renderings")
+            onlyRenderings = true;
+        else if (a == "--kendall")
+            kendall = true;
+        else if (a == "--albedo" && i + 1 < argc)
+            kendallAlbedo = std::atof(argv[++i]);
         else {
-            std::fprintf(stderr, "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
-                                 "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
-                                 "[--only-renderings] [--kendall [--albedo A]]\n", argv[0]);
+            std::fprintf(stderr,
+                         "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
+                         "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
+                         "[--only-renderings] [--kendall [--albedo A]]\n",
+                         argv[0]);
             return 2;
         }
     }
@@ -159,10 +172,12 @@ int main(int argc, char** argv) {
         // Rank agreement of the two measures (docs/separation.md) over all 729 assignments of the
         // paper scene (maps merged), at the paper's parameters and at equal albedo 0.1.
         const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
-        std::printf("# Weber score against the ΔE_ITP measure, %s/rendering-01.json at %d² × %d spp\n\n"
-                    "| lobes | Kendall τ (score, itp) | discordant / comparable | τ (highlight term H, itp) | "
-                    "best by score | best by itp |\n|---|---:|---:|---:|---|---|\n",
-                    paperDir.c_str(), size, spp);
+        std::printf(
+            "# Weber score against the ΔE_ITP measure, %s/rendering-01.json at %d² × %d spp\n\n"
+            "| lobes | Kendall τ (score, itp) | discordant / comparable | τ (highlight term H, "
+            "itp) | "
+            "best by score | best by itp |\n|---|---:|---:|---:|---|---|\n",
+            paperDir.c_str(), size, spp);
         for (int equal = 0; equal < 2; ++equal) {
             std::vector<BrdfCandidate> c = nine;
             if (equal) equalizeAlbedo(c, kendallAlbedo);
@@ -186,7 +201,8 @@ int main(int argc, char** argv) {
             const size_t bd = size_t(std::max_element(d.begin(), d.end()) - d.begin());
             std::printf("| %s | %.3f | %d / %d | %.3f | %s | %s |\n",
                         equal ? "equal albedo" : "paper's parameters", t.kendallTau, t.discordant,
-                        t.comparable, th.kendallTau, label(c, all[bw]).c_str(), label(c, all[bd]).c_str());
+                        t.comparable, th.kendallTau, label(c, all[bw]).c_str(),
+                        label(c, all[bd]).c_str());
             for (int r = 1; r <= 24; ++r) {
                 char name[64];
                 std::snprintf(name, sizeof name, "/rendering-%02d.json", r);
@@ -216,10 +232,11 @@ int main(int argc, char** argv) {
     std::printf("# lobe assign: the shortcut against full renders\n\n");
     std::printf("Paper scene (rendering 1's geometry, %s) at %d² × %d spp, %d threads.\n\n",
                 paperDir.c_str(), size, spp, threads);
-    std::printf("Shortcut: one render with 9 specular layers per object %.2f s wall (%.2f CPU s), "
-                "729 assignments scored in %.3f s. Best: %s (%.4f).\n\n",
-                layerWall, layerCpu, searchWall,
-                label(nine, shortcut.ranked[0].assignment).c_str(), shortcut.ranked[0].score);
+    std::printf(
+        "Shortcut: one render with 9 specular layers per object %.2f s wall (%.2f CPU s), "
+        "729 assignments scored in %.3f s. Best: %s (%.4f).\n\n",
+        layerWall, layerCpu, searchWall, label(nine, shortcut.ranked[0].assignment).c_str(),
+        shortcut.ranked[0].score);
     std::vector<double> fromLayers, fromRenders;
     if (!skipFull && !onlyRenderings) {
         Clock fullClock;
@@ -233,13 +250,14 @@ int main(int argc, char** argv) {
             if (full > bestFull) bestFull = full, bestFullAssignment = s.assignment;
         }
         const RankAgreement agree = compareRankings(fromLayers, fromRenders);
-        std::printf("Exhaustive full renders: 729 renders %.1f s wall (%.1f CPU s). Best: %s "
-                    "(%.4f) — %s the shortcut's. Max |score difference| %.2e; Kendall tau %.6f "
-                    "(%d discordant of %d comparable pairs).\n\n",
-                    fullClock.wallSeconds(), fullClock.cpuSeconds(),
-                    label(nine, bestFullAssignment).c_str(), bestFull,
-                    bestFullAssignment == shortcut.ranked[0].assignment ? "the same as" : "NOT",
-                    maxDiff, agree.kendallTau, agree.discordant, agree.comparable);
+        std::printf(
+            "Exhaustive full renders: 729 renders %.1f s wall (%.1f CPU s). Best: %s "
+            "(%.4f) — %s the shortcut's. Max |score difference| %.2e; Kendall tau %.6f "
+            "(%d discordant of %d comparable pairs).\n\n",
+            fullClock.wallSeconds(), fullClock.cpuSeconds(),
+            label(nine, bestFullAssignment).c_str(), bestFull,
+            bestFullAssignment == shortcut.ranked[0].assignment ? "the same as" : "NOT", maxDiff,
+            agree.kendallTau, agree.discordant, agree.comparable);
     }
 
     // 2. The paper's renderings among the 729, as rendered and with equal-albedo lobes.
@@ -247,17 +265,22 @@ int main(int argc, char** argv) {
     // incidence (band mean, analysis/properties.h) is 0.1, half the Lambert term's 0.2 — the
     // lobes' magnitude as a controlled variable, leaving their shape and placement.
     AssignmentLayers equal = layers;
-    std::printf("## Equal-albedo scale per model (albedo at normal incidence → 0.1)\n\n| model | albedo | scale |\n|---|---:|---:|\n");
+    std::printf(
+        "## Equal-albedo scale per model (albedo at normal incidence → 0.1)\n\n| model | albedo | "
+        "scale |\n|---|---:|---:|\n");
     for (size_t c = 0; c < nine.size(); ++c) {
-        const SpectrumEstimate a = directionalAlbedo(makeBrdf(nine[c].model), 0.0, 0.0, 16384, 8, 7);
+        const SpectrumEstimate a =
+            directionalAlbedo(makeBrdf(nine[c].model), 0.0, 0.0, 16384, 8, 7);
         const double albedo = a.value.average(), k = albedo > 0.0 ? 0.1 / albedo : 1.0;
         std::printf("| %s | %.4f | %.3f |\n", nine[c].model.c_str(), albedo, k);
         for (size_t o = 0; o < equal.objects().size(); ++o)
             for (float& v : equal.specular[o * nine.size() + c]) v = float(v * k);
     }
-    std::printf("\n## The paper's 24 renderings among all 729 assignments\n\n"
-                "| rendering | skull / cortex / density maps | score | rank of 729 | equal-albedo score | rank |\n"
-                "|---|---|---:|---:|---:|---:|\n");
+    std::printf(
+        "\n## The paper's 24 renderings among all 729 assignments\n\n"
+        "| rendering | skull / cortex / density maps | score | rank of 729 | equal-albedo score | "
+        "rank |\n"
+        "|---|---|---:|---:|---:|---:|\n");
     double groupRaw[4] = {0, 0, 0, 0}, groupEqual[4] = {0, 0, 0, 0};
     for (int r = 1; r <= 24; ++r) {
         char name[64];
@@ -274,20 +297,24 @@ int main(int argc, char** argv) {
                     (unsigned long long)(countBetter(layers, all, a) + 1), eq,
                     (unsigned long long)(countBetter(equal, all, a) + 1));
     }
-    std::printf("\nGroup means (A best by flux overlap, B worst, C one model everywhere, D mixed): "
-                "as rendered A %.4f, B %.4f, C %.4f, D %.4f; equal albedo A %.4f, B %.4f, C %.4f, "
-                "D %.4f.\n",
-                groupRaw[0], groupRaw[1], groupRaw[2], groupRaw[3], groupEqual[0], groupEqual[1],
-                groupEqual[2], groupEqual[3]);
+    std::printf(
+        "\nGroup means (A best by flux overlap, B worst, C one model everywhere, D mixed): "
+        "as rendered A %.4f, B %.4f, C %.4f, D %.4f; equal albedo A %.4f, B %.4f, C %.4f, "
+        "D %.4f.\n",
+        groupRaw[0], groupRaw[1], groupRaw[2], groupRaw[3], groupEqual[0], groupEqual[1],
+        groupEqual[2], groupEqual[3]);
     const AssignResult bestEqual = searchAssignments(equal, all);
     std::printf("\nTop 5 as rendered: ");
     for (int i = 0; i < 5; ++i)
-        std::printf("%s%s (%.4f)", i ? "; " : "", label(nine, shortcut.ranked[size_t(i)].assignment).c_str(),
+        std::printf("%s%s (%.4f)", i ? "; " : "",
+                    label(nine, shortcut.ranked[size_t(i)].assignment).c_str(),
                     shortcut.ranked[size_t(i)].score);
     std::printf(". Bottom: %s (%.4f).\nTop 5 with equal albedo: ",
-                label(nine, shortcut.ranked.back().assignment).c_str(), shortcut.ranked.back().score);
+                label(nine, shortcut.ranked.back().assignment).c_str(),
+                shortcut.ranked.back().score);
     for (int i = 0; i < 5; ++i)
-        std::printf("%s%s (%.4f)", i ? "; " : "", label(nine, bestEqual.ranked[size_t(i)].assignment).c_str(),
+        std::printf("%s%s (%.4f)", i ? "; " : "",
+                    label(nine, bestEqual.ranked[size_t(i)].assignment).c_str(),
                     bestEqual.ranked[size_t(i)].score);
     std::printf(".\n\n");
     if (onlyRenderings) return 0;
@@ -309,13 +336,13 @@ int main(int argc, char** argv) {
         d.top = 1;
         d.allowed = defaultsOnly;
         const AssignResult bestDefaults = searchAssignments(tl, d);
-        std::printf("## Tuning (%d² × %d spp, %zu candidates: the nine models and their documented "
-                    "variants)\n\nLayers %.2f s, search of %llu assignments %.2f s. Best with "
-                    "defaults only: %s (%.4f). Best with variants: %s (%.4f).\n\n",
-                    tuneSize, spp, tuned.size(), lw, (unsigned long long)best.evaluated,
-                    c2.wallSeconds(), label(tuned, bestDefaults.ranked[0].assignment).c_str(),
-                    bestDefaults.ranked[0].score, label(tuned, best.ranked[0].assignment).c_str(),
-                    best.ranked[0].score);
+        std::printf(
+            "## Tuning (%d² × %d spp, %zu candidates: the nine models and their documented "
+            "variants)\n\nLayers %.2f s, search of %llu assignments %.2f s. Best with "
+            "defaults only: %s (%.4f). Best with variants: %s (%.4f).\n\n",
+            tuneSize, spp, tuned.size(), lw, (unsigned long long)best.evaluated, c2.wallSeconds(),
+            label(tuned, bestDefaults.ranked[0].assignment).c_str(), bestDefaults.ranked[0].score,
+            label(tuned, best.ranked[0].assignment).c_str(), best.ranked[0].score);
     }
 
     // 4. Many objects.
@@ -339,24 +366,27 @@ int main(int argc, char** argv) {
         Clock ec;
         const AssignResult es = searchAssignments(ml, ex);
         const double exSeconds = ec.wallSeconds();
-        std::printf("## Six objects (skull, cortex, four density maps; %d² × %d spp)\n\n"
-                    "Layers %.2f s. Local search: %llu assignments scored in %.2f s, best %s "
-                    "(%.4f). Exhaustive: %llu assignments in %.1f s, best %s (%.4f). The scene's "
-                    "own assignment scores %.4f.\n\n",
-                    manySize, spp, lw, (unsigned long long)ls.evaluated, localSeconds,
-                    label(nine, ls.ranked[0].assignment).c_str(), ls.ranked[0].score,
-                    (unsigned long long)es.evaluated, exSeconds,
-                    label(nine, es.ranked[0].assignment).c_str(), es.ranked[0].score,
-                    assignmentScore(ml, own));
+        std::printf(
+            "## Six objects (skull, cortex, four density maps; %d² × %d spp)\n\n"
+            "Layers %.2f s. Local search: %llu assignments scored in %.2f s, best %s "
+            "(%.4f). Exhaustive: %llu assignments in %.1f s, best %s (%.4f). The scene's "
+            "own assignment scores %.4f.\n\n",
+            manySize, spp, lw, (unsigned long long)ls.evaluated, localSeconds,
+            label(nine, ls.ranked[0].assignment).c_str(), ls.ranked[0].score,
+            (unsigned long long)es.evaluated, exSeconds,
+            label(nine, es.ranked[0].assignment).c_str(), es.ranked[0].score,
+            assignmentScore(ml, own));
         Rng rng(2026, 11);
         int same = 0;
         double worstGap = 0.0;
         for (int t = 0; t < subsets; ++t) {
             std::vector<int> order = {0, 1, 2, 3, 4, 5};
-            for (int i = 5; i > 0; --i) std::swap(order[size_t(i)], order[size_t(rng.uniform() * (i + 1)) % size_t(i + 1)]);
+            for (int i = 5; i > 0; --i)
+                std::swap(order[size_t(i)], order[size_t(rng.uniform() * (i + 1)) % size_t(i + 1)]);
             AssignOptions sub;
             sub.fixed.assign(6, -1);
-            for (int i = 3; i < 6; ++i) sub.fixed[size_t(order[size_t(i)])] = int(rng.uniform() * 9) % 9;
+            for (int i = 3; i < 6; ++i)
+                sub.fixed[size_t(order[size_t(i)])] = int(rng.uniform() * 9) % 9;
             sub.top = 1;
             const AssignResult exact = searchAssignments(ml, sub);
             sub.exhaustiveLimit = 0;
@@ -365,9 +395,10 @@ int main(int argc, char** argv) {
             same += approx.ranked[0].score == exact.ranked[0].score;
             worstGap = std::max(worstGap, exact.ranked[0].score - approx.ranked[0].score);
         }
-        std::printf("Random 3-object subsets (the other three at random models): the local search "
-                    "found the exhaustive best score in %d of %d; worst gap %.2e.\n",
-                    same, subsets, worstGap);
+        std::printf(
+            "Random 3-object subsets (the other three at random models): the local search "
+            "found the exhaustive best score in %d of %d; worst gap %.2e.\n",
+            same, subsets, worstGap);
     }
     return 0;
 }

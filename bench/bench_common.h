@@ -15,7 +15,8 @@
 namespace lobe::bench {
 
 inline double wallSeconds() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
 }
 
 // User + system CPU time of the whole process (all threads), from getrusage: on a shared machine

@@ -6,7 +6,6 @@
 //
 //   lobe_bench_cost [--scene FILE] [--width 128] [--spp 1] [--rounds 5] [--threads 0]
 #include "bench_common.h"
-
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 
@@ -31,11 +30,16 @@ int main(int argc, char** argv) {
     int width = 128, spp = 1, rounds = 5, threads = 0;
     for (int i = 1; i < argc; ++i) {
         bench::Args a(argc, argv, i);
-        if (a.flag() == "--scene") scenePath = a.text();
-        else if (a.flag() == "--width") width = a.integer();
-        else if (a.flag() == "--spp") spp = a.integer();
-        else if (a.flag() == "--rounds") rounds = a.integer();
-        else if (a.flag() == "--threads") threads = a.integer();
+        if (a.flag() == "--scene")
+            scenePath = a.text();
+        else if (a.flag() == "--width")
+            width = a.integer();
+        else if (a.flag() == "--spp")
+            spp = a.integer();
+        else if (a.flag() == "--rounds")
+            rounds = a.integer();
+        else if (a.flag() == "--threads")
+            threads = a.integer();
         else {
             std::fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
@@ -78,9 +82,10 @@ int main(int argc, char** argv) {
                 median(cpu[0]), median(wall[1]), median(cpu[1]));
     std::printf("ratio on/off: wall %.3f, CPU %.3f\n", median(wall[1]) / median(wall[0]),
                 median(cpu[1]) / median(cpu[0]));
-    std::printf("last on-run: CPU %.3f s = surfaces %.3f + volumes %.3f + shading %.3f + other "
-                "%.3f; %lld BRDF evaluations\n",
-                cost.cpuSeconds, cost.surfaces, cost.volumes, cost.shading, cost.other,
-                cost.brdfEvaluations());
+    std::printf(
+        "last on-run: CPU %.3f s = surfaces %.3f + volumes %.3f + shading %.3f + other "
+        "%.3f; %lld BRDF evaluations\n",
+        cost.cpuSeconds, cost.surfaces, cost.volumes, cost.shading, cost.other,
+        cost.brdfEvaluations());
     return 0;
 }

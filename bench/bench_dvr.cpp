@@ -22,6 +22,16 @@
 // process). LOBE_BENCH_DVR_PPM=<folder> also writes every image as a PPM for a look.
 //
 // The volume is read by the project's loader (volume/volume.h).
+#include "bench/bench_common.h"
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "core/tile_scheduler.h"
+#include "render/compositor.h"
+#include "render/shading.h"
+#include "volume/volume.h"
+#include "volume/volume_marcher.h"
+
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>
@@ -39,24 +49,13 @@
 #include <string>
 #include <vector>
 
-#include "bench/bench_common.h"
-#include "core/camera.h"
-#include "core/error.h"
-#include "core/rng.h"
-#include "core/tile_scheduler.h"
-#include "render/compositor.h"
-#include "render/shading.h"
-#include "volume/volume.h"
-#include "volume/volume_marcher.h"
-
 namespace lobe {
 namespace {
 
 constexpr int kSize = 128;
 constexpr int kThreads = 2;
 constexpr double kReferenceStep = 0.02;
-const char* kDataPath =
-    LOBE_SOURCE_DIR "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz";
+const char* kDataPath = LOBE_SOURCE_DIR "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz";
 
 struct Scene {
     openvdb::FloatGrid::Ptr grid;
@@ -239,15 +238,15 @@ int main(int argc, char** argv) {
         for (int skip : {1, 0}) runs.push_back({step, skip, 0});
     for (int step : {5, 10, 25, 50, 100, 200, 400}) runs.push_back({step, 1, 1});
     for (const auto& [step, skip, pre] : runs)
-            benchmark::RegisterBenchmark(
-                (std::string("dvr/step:") + std::to_string(step / 100.0).substr(0, 4) +
-                 (skip ? "/skip" : "/noskip") + (pre ? "/pre-integrated" : ""))
-                    .c_str(),
-                lobe::benchDvr)
-                ->Args({step, skip, pre})
-                ->UseManualTime()
-                ->Iterations(2)
-                ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark(
+            (std::string("dvr/step:") + std::to_string(step / 100.0).substr(0, 4) +
+             (skip ? "/skip" : "/noskip") + (pre ? "/pre-integrated" : ""))
+                .c_str(),
+            lobe::benchDvr)
+            ->Args({step, skip, pre})
+            ->UseManualTime()
+            ->Iterations(2)
+            ->Unit(benchmark::kMillisecond);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

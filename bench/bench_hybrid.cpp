@@ -27,10 +27,10 @@
 //                          [--out DIR: EXR images of the reference and each step]
 // Output: a Markdown report on stdout.
 #include "bench/bench_common.h"
-#include "render/render_scene.h"
-#include "render/scene_file.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 
 #include <sys/resource.h>
 
@@ -131,20 +131,21 @@ int runBench(int size, int threads, int reps, const std::string& out) {
     if (!(refMax > 0)) throw Error("the reference image is black");
     const double rssAfterReference = peakRssMB();
     if (!out.empty()) writeFilm(out + "/brain-ref.exr", ref.film, spec.exposure);
-    std::printf("# DVR of the paper scene's brain objects (lobe_bench_hybrid)\n\n"
-                "%d², 1 spp, %d threads, best of %d; cortex (B-spline) + density maps "
-                "(trilinear), no skull, no backdrop, the brain's square of the paper view (crop "
-                "[0.24, 0.14, 0.76, 0.66]). Reference: step %.2f voxel, %.1f s (%.1f CPU-s), "
-                "%.1f M lattice points evaluated, %.1f M skipped, %.1f M composited. "
-                "Evaluated: lattice points reconstructed; composited: those with opacity > 0, "
-                "shaded with the BRDF.\n\n",
-                size, threads, reps, kReferenceStep, ref.render, ref.cpu,
-                ref.stats.volumeEvaluated * 1e-6, ref.stats.volumeSkipped * 1e-6,
-                ref.stats.volumeSamples * 1e-6);
-    std::printf("| step (voxel) | skipping | render (s) | CPU (s) | build (s) | rel. RMSE | "
-                "evaluated (M) | skipped (M) | composited (M) | M evaluated/s | "
-                "M evaluated/CPU-s | skip diff / max |\n"
-                "|---:|:---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::printf(
+        "# DVR of the paper scene's brain objects (lobe_bench_hybrid)\n\n"
+        "%d², 1 spp, %d threads, best of %d; cortex (B-spline) + density maps "
+        "(trilinear), no skull, no backdrop, the brain's square of the paper view (crop "
+        "[0.24, 0.14, 0.76, 0.66]). Reference: step %.2f voxel, %.1f s (%.1f CPU-s), "
+        "%.1f M lattice points evaluated, %.1f M skipped, %.1f M composited. "
+        "Evaluated: lattice points reconstructed; composited: those with opacity > 0, "
+        "shaded with the BRDF.\n\n",
+        size, threads, reps, kReferenceStep, ref.render, ref.cpu, ref.stats.volumeEvaluated * 1e-6,
+        ref.stats.volumeSkipped * 1e-6, ref.stats.volumeSamples * 1e-6);
+    std::printf(
+        "| step (voxel) | skipping | render (s) | CPU (s) | build (s) | rel. RMSE | "
+        "evaluated (M) | skipped (M) | composited (M) | M evaluated/s | "
+        "M evaluated/CPU-s | skip diff / max |\n"
+        "|---:|:---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (double step : {0.05, 0.1, 0.25, 0.5, 1.0}) {
         const Run on = run(spec, step, true, threads, reps);
         const Run off = run(spec, step, false, threads, reps);
@@ -155,13 +156,14 @@ int runBench(int size, int threads, int reps, const std::string& out) {
                         " (max difference " + std::to_string(diff) + " of the maximum)");
         if (!(maxValue(on.film) > 0)) throw Error("black image at step " + std::to_string(step));
         for (const Run* r : {&on, &off})
-            std::printf("| %.2f | %s | %.2f | %.2f | %.2f | %.2e | %.1f | %.1f | %.1f | %.2f | %.2f | "
-                        "%.0e |\n",
-                        step, r == &on ? "on" : "off", r->render, r->cpu, r->build,
-                        relativeRmse(r->film, ref.film), r->stats.volumeEvaluated * 1e-6,
-                        r->stats.volumeSkipped * 1e-6, r->stats.volumeSamples * 1e-6,
-                        r->stats.volumeEvaluated * 1e-6 / r->render,
-                        r->stats.volumeEvaluated * 1e-6 / r->cpu, diff);
+            std::printf(
+                "| %.2f | %s | %.2f | %.2f | %.2f | %.2e | %.1f | %.1f | %.1f | %.2f | %.2f | "
+                "%.0e |\n",
+                step, r == &on ? "on" : "off", r->render, r->cpu, r->build,
+                relativeRmse(r->film, ref.film), r->stats.volumeEvaluated * 1e-6,
+                r->stats.volumeSkipped * 1e-6, r->stats.volumeSamples * 1e-6,
+                r->stats.volumeEvaluated * 1e-6 / r->render,
+                r->stats.volumeEvaluated * 1e-6 / r->cpu, diff);
         if (!out.empty()) {
             char name[64];
             std::snprintf(name, sizeof name, "/brain-step%.2f.exr", step);
@@ -169,9 +171,10 @@ int runBench(int size, int threads, int reps, const std::string& out) {
         }
         std::fflush(stdout);
     }
-    std::printf("\nPeak memory (getrusage ru_maxrss, whole process): %.0f MB after the reference "
-                "(both volumes loaded, brick tables built), %.0f MB at the end.\n",
-                rssAfterReference, peakRssMB());
+    std::printf(
+        "\nPeak memory (getrusage ru_maxrss, whole process): %.0f MB after the reference "
+        "(both volumes loaded, brick tables built), %.0f MB at the end.\n",
+        rssAfterReference, peakRssMB());
     return 0;
 }
 
@@ -205,7 +208,8 @@ int main(int argc, char** argv) {
         }
     }
     if (size < 8 || size > 4096 || threads < 0 || reps < 1) {
-        std::fprintf(stderr, "lobe_bench_hybrid: --size in [8, 4096], --threads >= 0, --reps >= 1\n");
+        std::fprintf(stderr,
+                     "lobe_bench_hybrid: --size in [8, 4096], --threads >= 0, --reps >= 1\n");
         return 2;
     }
     try {

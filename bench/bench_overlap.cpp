@@ -6,8 +6,8 @@
 //   lobe_bench_overlap --study         instead: the convergence study (128²/256²/512² ×
 //                                      1/4/16/64 spp against 512²/64 spp), a Markdown table on
 //                                      stdout; takes minutes
-#include "analysis/overlap_report.h"
 #include "analysis/overlap_ranking.h"
+#include "analysis/overlap_report.h"
 #include "materials/registry.h"
 
 #include <benchmark/benchmark.h>

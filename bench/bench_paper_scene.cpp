@@ -16,11 +16,11 @@
 // Output: a Markdown report on stdout. Checks before reporting: images finite, the scene covers
 // a plausible part of the image (not just backdrop).
 #include "bench/bench_common.h"
-#include "render/render_scene.h"
-#include "render/scene_file.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/tile_scheduler.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
 
 #include <sys/resource.h>
 #include <tbb/parallel_for.h>
@@ -89,19 +89,30 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
-        if (a == "--scene") scenePath = next();
-        else if (a == "--threads") threads = std::atoi(next().c_str());
-        else if (a == "--size") size = std::atoi(next().c_str());
-        else if (a == "--spp") spp = std::atoi(next().c_str());
-        else if (a == "--lattice") lattice = std::atoi(next().c_str());
-        else if (a == "--split-size") splitSize = std::atoi(next().c_str());
-        else if (a == "--roulette") roulette = std::atof(next().c_str());
-        else if (a == "--step") step = std::atof(next().c_str());
-        else if (a == "--no-split") split = false;
+        if (a == "--scene")
+            scenePath = next();
+        else if (a == "--threads")
+            threads = std::atoi(next().c_str());
+        else if (a == "--size")
+            size = std::atoi(next().c_str());
+        else if (a == "--spp")
+            spp = std::atoi(next().c_str());
+        else if (a == "--lattice")
+            lattice = std::atoi(next().c_str());
+        else if (a == "--split-size")
+            splitSize = std::atoi(next().c_str());
+        else if (a == "--roulette")
+            roulette = std::atof(next().c_str());
+        else if (a == "--step")
+            step = std::atof(next().c_str());
+        else if (a == "--no-split")
+            split = false;
         else {
-            std::fprintf(stderr, "usage: %s [--scene F] [--threads N] [--size N] [--spp N] "
-                                 "[--lattice N] [--split-size N] [--roulette W] [--step S] "
-                                 "[--no-split]\n", argv[0]);
+            std::fprintf(stderr,
+                         "usage: %s [--scene F] [--threads N] [--size N] [--spp N] "
+                         "[--lattice N] [--split-size N] [--roulette W] [--step S] "
+                         "[--no-split]\n",
+                         argv[0]);
             return 2;
         }
     }
@@ -135,7 +146,8 @@ int main(int argc, char** argv) {
         const double r0 = now();
         runWithThreads(threads, [&] {
             tbb::parallel_for(0, lattice * lattice, [&](int i) {
-                const int x = (i % lattice) * stride + stride / 2, y = (i / lattice) * stride + stride / 2;
+                const int x = (i % lattice) * stride + stride / 2,
+                          y = (i / lattice) * stride + stride / 2;
                 ref[i] = reference.renderPixel(x, y);
                 got[i] = full.film.at(x, y);
             });
@@ -158,26 +170,34 @@ int main(int argc, char** argv) {
 
         std::printf("| what | wall time | note |\n|---|---|---|\n");
         std::printf("| build (load volumes, Embree, bricks) | %.2f s | |\n", full.build);
-        std::printf("| render %d² × %d spp | **%.2f s** | %.2f CPU s (%.2f s per thread); %.1f µs "
-                    "of CPU per camera ray |\n", size, spp, full.render, full.renderCpu,
-                    full.renderCpu / threads, full.renderCpu / (double(size) * size * spp) * 1e6);
+        std::printf(
+            "| render %d² × %d spp | **%.2f s** | %.2f CPU s (%.2f s per thread); %.1f µs "
+            "of CPU per camera ray |\n",
+            size, spp, full.render, full.renderCpu, full.renderCpu / threads,
+            full.renderCpu / (double(size) * size * spp) * 1e6);
         std::printf("| write EXR + PNG | %.2f s | |\n", outputSeconds);
-        std::printf("| volume lattice points skipped / reconstructed | %.1f M / %.1f M | "
-                    "%.1f / %.1f per camera ray |\n", full.stats.volumeSkipped * 1e-6,
-                    full.stats.volumeEvaluated * 1e-6,
-                    double(full.stats.volumeSkipped) / full.stats.rays,
-                    double(full.stats.volumeEvaluated) / full.stats.rays);
-        std::printf("| volume samples composited / shaded (roulette %.3g) | %.1f M / %.1f M | "
-                    "%.1f / %.1f per camera ray |\n", spec.shadingRoulette,
-                    full.stats.volumeSamples * 1e-6, full.stats.volumeShaded * 1e-6,
-                    double(full.stats.volumeSamples) / full.stats.rays,
-                    double(full.stats.volumeShaded) / full.stats.rays);
-        std::printf("| preview 512² × 1 spp (render only / with build) | **%.2f s** / %.2f s | "
-                    "%.2f CPU s |\n", pre.render, pre.render + pre.build, pre.renderCpu);
+        std::printf(
+            "| volume lattice points skipped / reconstructed | %.1f M / %.1f M | "
+            "%.1f / %.1f per camera ray |\n",
+            full.stats.volumeSkipped * 1e-6, full.stats.volumeEvaluated * 1e-6,
+            double(full.stats.volumeSkipped) / full.stats.rays,
+            double(full.stats.volumeEvaluated) / full.stats.rays);
+        std::printf(
+            "| volume samples composited / shaded (roulette %.3g) | %.1f M / %.1f M | "
+            "%.1f / %.1f per camera ray |\n",
+            spec.shadingRoulette, full.stats.volumeSamples * 1e-6, full.stats.volumeShaded * 1e-6,
+            double(full.stats.volumeSamples) / full.stats.rays,
+            double(full.stats.volumeShaded) / full.stats.rays);
+        std::printf(
+            "| preview 512² × 1 spp (render only / with build) | **%.2f s** / %.2f s | "
+            "%.2f CPU s |\n",
+            pre.render, pre.render + pre.build, pre.renderCpu);
         std::printf("| reference (step 0.02, 64 spp) on %d×%d pixels | %.2f s | |\n\n", lattice,
                     lattice, refSeconds);
-        std::printf("Error of the %d² × %d spp render against the reference on those pixels: "
-                    "relative RMSE **%.2f %%**.\n\n", size, spp, relRmse * 100.0);
+        std::printf(
+            "Error of the %d² × %d spp render against the reference on those pixels: "
+            "relative RMSE **%.2f %%**.\n\n",
+            size, spp, relRmse * 100.0);
 
         // 4. Where the time goes (at splitSize², same spp).
         if (!split) return 0;
@@ -186,15 +206,15 @@ int main(int argc, char** argv) {
         SceneSpec lambert = base;
         for (ObjectSpec& o : lambert.objects) o.material.specularOn = false;
         SceneSpec noVolumes = lambert;
-        noVolumes.objects.erase(std::remove_if(noVolumes.objects.begin(), noVolumes.objects.end(),
-                                               [](const ObjectSpec& o) {
-                                                   return o.kind == ObjectSpec::Kind::Volume;
-                                               }),
-                                noVolumes.objects.end());
+        noVolumes.objects.erase(
+            std::remove_if(noVolumes.objects.begin(), noVolumes.objects.end(),
+                           [](const ObjectSpec& o) { return o.kind == ObjectSpec::Kind::Volume; }),
+            noVolumes.objects.end());
         SceneSpec nothing = base;
         nothing.objects.clear();
         const Timed tFull = renderTimed(base, threads), tLambert = renderTimed(lambert, threads),
-                    tNoVol = renderTimed(noVolumes, threads), tNothing = renderTimed(nothing, threads);
+                    tNoVol = renderTimed(noVolumes, threads),
+                    tNothing = renderTimed(nothing, threads);
         SceneSpec objectsOnly = base;
         objectsOnly.backdrop.enabled = false;
         objectsOnly.width = objectsOnly.height = 64;
@@ -202,14 +222,16 @@ int main(int argc, char** argv) {
         const double cover = coverage(renderTimed(objectsOnly, threads).film);
         if (cover < 0.05) throw Error("the scene covers under 5 % of the image: wrong placement?");
         const double total = tFull.render;
-        std::printf("Where the render time goes (%d² × %d spp, one run; objects cover %.0f %% of the "
-                    "image):\n\n| part | seconds | share |\n|---|---|---|\n", splitSize, spp,
-                    cover * 100.0);
+        std::printf(
+            "Where the render time goes (%d² × %d spp, one run; objects cover %.0f %% of the "
+            "image):\n\n| part | seconds | share |\n|---|---|---|\n",
+            splitSize, spp, cover * 100.0);
         std::printf("| BRDF evaluation (full − Lambert only) | %.2f | %.0f %% |\n",
                     total - tLambert.render, 100.0 * (total - tLambert.render) / total);
-        std::printf("| volume sampling (reconstruction, gradients, transfer functions, Lambert "
-                    "shading) | %.2f | %.0f %% |\n", tLambert.render - tNoVol.render,
-                    100.0 * (tLambert.render - tNoVol.render) / total);
+        std::printf(
+            "| volume sampling (reconstruction, gradients, transfer functions, Lambert "
+            "shading) | %.2f | %.0f %% |\n",
+            tLambert.render - tNoVol.render, 100.0 * (tLambert.render - tNoVol.render) / total);
         std::printf("| surfaces (Embree, exact iso-surface, Lambert shading) | %.2f | %.0f %% |\n",
                     tNoVol.render - tNothing.render,
                     100.0 * (tNoVol.render - tNothing.render) / total);

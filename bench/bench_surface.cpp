@@ -19,17 +19,28 @@
 // voxel of an independent root finder (tests/surface/test_iso_surface.cpp).
 //
 // Build peak: the rise of the process's peak resident memory while the method builds (the
-// source grid is already loaded). Memory kept: what the method keeps for rendering — the exact method its bricks (9³ values per
-// brick holding the surface), the mesh its vertices, quads and bounds plus the source grid (its
-// shading normals are the grid's gradient), the level set its tree and block classes.
+// source grid is already loaded). Memory kept: what the method keeps for rendering — the exact
+// method its bricks (9³ values per brick holding the surface), the mesh its vertices, quads and
+// bounds plus the source grid (its shading normals are the grid's gradient), the level set its tree
+// and block classes.
 //
 // --terraces runs the terrace study instead (below, "The skull without terraces").
 //
 // Usage: lobe_bench_surface [--size N] [--no-upsampled] [--terraces]
-#include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "core/tile_scheduler.h"
+#include "surface/iso_exact.h"
+#include "surface/iso_levelset.h"
+#include "surface/iso_mesh.h"
+#include "surface/surface_scene.h"
+#include "volume/gaussian_blur.h"
+#include "volume/volume.h"
 
 #include <openvdb/tools/GridTransformer.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
@@ -42,17 +53,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-#include "core/camera.h"
-#include "core/error.h"
-#include "core/rng.h"
-#include "core/tile_scheduler.h"
-#include "surface/iso_exact.h"
-#include "surface/iso_levelset.h"
-#include "surface/iso_mesh.h"
-#include "surface/surface_scene.h"
-#include "volume/gaussian_blur.h"
-#include "volume/volume.h"
 
 namespace lobe {
 namespace {
@@ -109,7 +109,8 @@ Image render(const SurfaceScene& scene, int strata) {
 
 double rmse(const Image& a, const Image& b) {
     double s = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) s += (a.pixels[i] - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
+    for (std::size_t i = 0; i < a.pixels.size(); ++i)
+        s += (a.pixels[i] - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
     return std::sqrt(s / double(a.pixels.size()));
 }
 
@@ -154,22 +155,41 @@ struct Method {
 void measure(const char* label, const openvdb::FloatGrid& grid, double voxel) {
     const double sourceMb = grid.tree().memUsage() / 1048576.0;
     const openvdb::Coord dims = grid.evalActiveVoxelDim();
-    std::printf("\n### %s: %d × %d × %d voxels, voxel %.2f (along z ×2), source grid %.1f MB, %d², "
-                "%d threads\n\n", label, dims.x(), dims.y(), dims.z(), voxel, sourceMb, gSize, kThreads);
+    std::printf(
+        "\n### %s: %d × %d × %d voxels, voxel %.2f (along z ×2), source grid %.1f MB, %d², "
+        "%d threads\n\n",
+        label, dims.x(), dims.y(), dims.z(), voxel, sourceMb, gSize, kThreads);
     const std::vector<Method> methods = {
-        {"exact", [](const openvdb::FloatGrid& g) { return std::make_shared<IsoExactSurface>(g, kIso, "CThead"); },
-         [](const SurfaceGeometry& s) { return static_cast<const IsoExactSurface&>(s).memoryBytes() / 1048576.0; }},
-        {"mesh", [](const openvdb::FloatGrid& g) { return std::make_shared<IsoMeshSurface>(g, kIso, "CThead"); },
+        {"exact",
+         [](const openvdb::FloatGrid& g) {
+             return std::make_shared<IsoExactSurface>(g, kIso, "CThead");
+         },
+         [](const SurfaceGeometry& s) {
+             return static_cast<const IsoExactSurface&>(s).memoryBytes() / 1048576.0;
+         }},
+        {"mesh",
+         [](const openvdb::FloatGrid& g) {
+             return std::make_shared<IsoMeshSurface>(g, kIso, "CThead");
+         },
          [sourceMb](const SurfaceGeometry& s) {
-             return static_cast<const IsoMeshSurface&>(s).memoryBytes() / 1048576.0 + sourceMb; }},
-        {"levelset", [](const openvdb::FloatGrid& g) {
-             return LevelSetSurface::fromDensity(g, kIso, LevelSetOptions{}, "CThead"); },
-         [](const SurfaceGeometry& s) { return static_cast<const LevelSetSurface&>(s).memoryBytes() / 1048576.0; }},
-        {"levelset, voxel ½", [voxel](const openvdb::FloatGrid& g) {
+             return static_cast<const IsoMeshSurface&>(s).memoryBytes() / 1048576.0 + sourceMb;
+         }},
+        {"levelset",
+         [](const openvdb::FloatGrid& g) {
+             return LevelSetSurface::fromDensity(g, kIso, LevelSetOptions{}, "CThead");
+         },
+         [](const SurfaceGeometry& s) {
+             return static_cast<const LevelSetSurface&>(s).memoryBytes() / 1048576.0;
+         }},
+        {"levelset, voxel ½",
+         [voxel](const openvdb::FloatGrid& g) {
              LevelSetOptions o;
              o.voxelSize = voxel / 2;
-             return LevelSetSurface::fromDensity(g, kIso, o, "CThead"); },
-         [](const SurfaceGeometry& s) { return static_cast<const LevelSetSurface&>(s).memoryBytes() / 1048576.0; }},
+             return LevelSetSurface::fromDensity(g, kIso, o, "CThead");
+         },
+         [](const SurfaceGeometry& s) {
+             return static_cast<const LevelSetSurface&>(s).memoryBytes() / 1048576.0;
+         }},
     };
     std::vector<std::unique_ptr<SurfaceScene>> scenes;
     std::vector<double> buildSeconds, memory, buildPeak;
@@ -188,8 +208,9 @@ void measure(const char* label, const openvdb::FloatGrid& grid, double voxel) {
     }
     const Image reference = render(*scenes[0], kReferenceStrata);
     const std::vector<double> tExact = hitDistances(*scenes[0]);
-    std::printf("| method | build s | build peak MB | kept MB | Mrays/s (4 spp) | Δt mean / p99 / "
-                "max voxel | hit ≠ exact | RMSE 1 / 4 / 16 spp | ms 1 / 4 / 16 spp |\n");
+    std::printf(
+        "| method | build s | build peak MB | kept MB | Mrays/s (4 spp) | Δt mean / p99 / "
+        "max voxel | hit ≠ exact | RMSE 1 / 4 / 16 spp | ms 1 / 4 / 16 spp |\n");
     std::printf("|---|---:|---:|---:|---:|---|---:|---|---|\n");
     for (std::size_t i = 0; i < methods.size(); ++i) {
         const std::vector<double> t = hitDistances(*scenes[i]);
@@ -197,7 +218,8 @@ void measure(const char* label, const openvdb::FloatGrid& grid, double voxel) {
         long long disagree = 0;
         for (std::size_t p = 0; p < t.size(); ++p) {
             if (std::isnan(t[p]) != std::isnan(tExact[p])) ++disagree;
-            if (!std::isnan(t[p]) && !std::isnan(tExact[p])) err.push_back(std::abs(t[p] - tExact[p]) / voxel);
+            if (!std::isnan(t[p]) && !std::isnan(tExact[p]))
+                err.push_back(std::abs(t[p] - tExact[p]) / voxel);
         }
         std::sort(err.begin(), err.end());
         double mean = 0.0;
@@ -213,10 +235,12 @@ void measure(const char* label, const openvdb::FloatGrid& grid, double voxel) {
             ms[k] = img.seconds * 1e3;
             if (strata == 2) mrays = img.rays * 1e-6 / img.seconds;
         }
-        std::printf("| %s | %.2f | %.0f | %.1f | %.2f | %.3f / %.2f / %.1f | %.3f %% | %.4f / %.4f / %.4f | "
-                    "%.0f / %.0f / %.0f |\n",
-                    methods[i].name, buildSeconds[i], buildPeak[i], memory[i], mrays, mean, p99, mx,
-                    100.0 * disagree / double(t.size()), rm[0], rm[1], rm[2], ms[0], ms[1], ms[2]);
+        std::printf(
+            "| %s | %.2f | %.0f | %.1f | %.2f | %.3f / %.2f / %.1f | %.3f %% | %.4f / %.4f / %.4f "
+            "| "
+            "%.0f / %.0f / %.0f |\n",
+            methods[i].name, buildSeconds[i], buildPeak[i], memory[i], mrays, mean, p99, mx,
+            100.0 * disagree / double(t.size()), rm[0], rm[1], rm[2], ms[0], ms[1], ms[2]);
         std::fflush(stdout);
     }
 }
@@ -284,13 +308,16 @@ openvdb::FloatGrid::Ptr cubicSlices(const openvdb::FloatGrid& grid, int f) {
     for (int k = box.min().z(); k <= box.max().z(); ++k)
         for (int r = 0; r < f; ++r) {
             const double t = double(r) / f;
-            const double w[4] = {(-t * t * t + 2 * t * t - t) / 2, (3 * t * t * t - 5 * t * t + 2) / 2,
+            const double w[4] = {(-t * t * t + 2 * t * t - t) / 2,
+                                 (3 * t * t * t - 5 * t * t + 2) / 2,
                                  (-3 * t * t * t + 4 * t * t + t) / 2, (t * t * t - t * t) / 2};
             for (int j = box.min().y(); j <= box.max().y(); ++j)
                 for (int i = box.min().x(); i <= box.max().x(); ++i) {
                     double v = 0.0;
-                    for (int m = 0; m < 4; ++m) v += w[m] * in.getValue(openvdb::Coord(i, j, k - 1 + m));
-                    if (v != grid.background()) acc.setValue(openvdb::Coord(i, j, f * k + r), float(v));
+                    for (int m = 0; m < 4; ++m)
+                        v += w[m] * in.getValue(openvdb::Coord(i, j, k - 1 + m));
+                    if (v != grid.background())
+                        acc.setValue(openvdb::Coord(i, j, f * k + r), float(v));
                 }
         }
     return out;
@@ -300,40 +327,57 @@ void terraceStudy(const Volume& ct) {
     const Vec3 centre(110, 131, 116);
     constexpr double kSlice = 2.0;  // mm between the CThead's slices
     const std::vector<Remedy> remedies = {
-        {"exact (untreated)", [&] { return std::make_shared<IsoExactSurface>(*ct.grid, kIso, "CThead"); }},
-        {"exact, source blurred 1 mm FWHM", [&] {
+        {"exact (untreated)",
+         [&] { return std::make_shared<IsoExactSurface>(*ct.grid, kIso, "CThead"); }},
+        {"exact, source blurred 1 mm FWHM",
+         [&] {
              Volume v = ct;
              v.grid = ct.grid->deepCopy();
              gaussianBlurFwhm(v, 1.0);
-             return std::make_shared<IsoExactSurface>(*v.grid, kIso, "CThead"); }},
-        {"exact, source blurred 2 mm FWHM", [&] {
+             return std::make_shared<IsoExactSurface>(*v.grid, kIso, "CThead");
+         }},
+        {"exact, source blurred 2 mm FWHM",
+         [&] {
              Volume v = ct;
              v.grid = ct.grid->deepCopy();
              gaussianBlurFwhm(v, 2.0);
-             return std::make_shared<IsoExactSurface>(*v.grid, kIso, "CThead"); }},
-        {"exact, slices ×2 by Catmull–Rom", [&] {
-             return std::make_shared<IsoExactSurface>(*cubicSlices(*ct.grid, 2), kIso, "CThead"); }},
-        {"exact, slices ×4 by Catmull–Rom", [&] {
-             return std::make_shared<IsoExactSurface>(*cubicSlices(*ct.grid, 4), kIso, "CThead"); }},
-        {"levelset", [&] { return LevelSetSurface::fromDensity(*ct.grid, kIso, LevelSetOptions{}, "CThead"); }},
-        {"levelset, voxel 1 (isotropic)", [&] {
+             return std::make_shared<IsoExactSurface>(*v.grid, kIso, "CThead");
+         }},
+        {"exact, slices ×2 by Catmull–Rom",
+         [&] {
+             return std::make_shared<IsoExactSurface>(*cubicSlices(*ct.grid, 2), kIso, "CThead");
+         }},
+        {"exact, slices ×4 by Catmull–Rom",
+         [&] {
+             return std::make_shared<IsoExactSurface>(*cubicSlices(*ct.grid, 4), kIso, "CThead");
+         }},
+        {"levelset",
+         [&] { return LevelSetSurface::fromDensity(*ct.grid, kIso, LevelSetOptions{}, "CThead"); }},
+        {"levelset, voxel 1 (isotropic)",
+         [&] {
              LevelSetOptions o;
              o.voxelSize = 1.0;
-             return LevelSetSurface::fromDensity(*ct.grid, kIso, o, "CThead"); }},
+             return LevelSetSurface::fromDensity(*ct.grid, kIso, o, "CThead");
+         }},
     };
     std::vector<Remedy> all = remedies;
     for (int it : {1, 2, 5, 10}) {
-        all.push_back({"levelset, voxel 1, mean curvature × " + std::to_string(it), [&ct, it] {
-            LevelSetOptions o;
-            o.smoothIterations = it;  // built at the source's smallest side, 1 (the filter needs cubes)
-            return LevelSetSurface::fromDensity(*ct.grid, kIso, o, "CThead"); }});
+        all.push_back(
+            {"levelset, voxel 1, mean curvature × " + std::to_string(it), [&ct, it] {
+                 LevelSetOptions o;
+                 o.smoothIterations =
+                     it;  // built at the source's smallest side, 1 (the filter needs cubes)
+                 return LevelSetSurface::fromDensity(*ct.grid, kIso, o, "CThead");
+             }});
     }
 
     const int size = 512;
     const PinholeCamera cam = paperCamera();
     std::vector<double> tRaw;
     std::printf("\n### The skull without terraces (CThead, iso 0.5)\n\n");
-    std::printf("| remedy | build s | terrace amplitude mm | normal's terrace amplitude ° | residual RMS mm | thin bone lost, %% of skull pixels |\n");
+    std::printf(
+        "| remedy | build s | terrace amplitude mm | normal's terrace amplitude ° | residual RMS "
+        "mm | thin bone lost, %% of skull pixels |\n");
     std::printf("|---|---:|---:|---:|---:|---:|\n");
     for (const Remedy& r : all) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -348,7 +392,8 @@ void terraceStudy(const Volume& ct) {
             std::vector<double> z, radius, tilt;
             for (double e = 30.0; e <= 80.0; e += 0.02) {
                 const double el = radians(e);
-                const Vec3 d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
+                const Vec3 d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                             -std::sin(el));
                 Ray ray;
                 ray.o = centre + d * 400.0;
                 ray.d = -d;
@@ -359,13 +404,16 @@ void terraceStudy(const Volume& ct) {
                 // The normal's angle from the ray's radial direction within the profile's
                 // plane (degrees): what the shading sees.
                 const Vec3 radial = normalized(hit->position - centre);
-                const Vec3 across = normalized(Vec3(-std::sin(az), std::cos(az), 0.0).cross(radial));
-                tilt.push_back(std::atan2(hit->normal.dot(across), hit->normal.dot(radial)) * 180.0 / kPi);
+                const Vec3 across =
+                    normalized(Vec3(-std::sin(az), std::cos(az), 0.0).cross(radial));
+                tilt.push_back(std::atan2(hit->normal.dot(across), hit->normal.dot(radial)) *
+                               180.0 / kPi);
             }
             // Sort by z (monotonic along the arc but for folds), detrend, project on 2-mm period.
             std::vector<std::size_t> order(z.size());
             for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-            std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return z[a] < z[b]; });
+            std::sort(order.begin(), order.end(),
+                      [&](std::size_t a, std::size_t b) { return z[a] < z[b]; });
             std::vector<double> zs, rs, ts;
             for (std::size_t i : order) {
                 zs.push_back(z[i]);
@@ -396,7 +444,8 @@ void terraceStudy(const Volume& ct) {
         std::vector<double> t(std::size_t(size) * size);
         tbb::parallel_for(0, size, [&](int y) {
             for (int x = 0; x < size; ++x) {
-                const auto hit = scene.intersect(cam.generateRay((x + 0.5) / size, (y + 0.5) / size));
+                const auto hit =
+                    scene.intersect(cam.generateRay((x + 0.5) / size, (y + 0.5) / size));
                 t[std::size_t(y) * size + x] = hit ? hit->t : std::nan("");
             }
         });
@@ -427,7 +476,8 @@ int main(int argc, char** argv) {
         } else if (!std::strcmp(argv[i], "--terraces")) {
             terraces = true;
         } else {
-            std::fprintf(stderr, "usage: lobe_bench_surface [--size N] [--no-upsampled] [--terraces]\n");
+            std::fprintf(stderr,
+                         "usage: lobe_bench_surface [--size N] [--no-upsampled] [--terraces]\n");
             return 2;
         }
     }

@@ -16,9 +16,9 @@
 //      Lambert-only render is timed before and after the models to show the drift.
 //  (b) count × unit cost: the shading directions (wi, wo) that the render evaluates are collected
 //      on a lattice of pixel centres (every --stride-th pixel, the renderer's frame and lighting
-//      rules: two-sided, tangent field, lights and viewer above the surface; materials/material.cpp),
-//      giving the evaluations per camera ray; each model is then timed on exactly those pairs
-//      (ns per evaluation on the real direction distribution, one thread), and
+//      rules: two-sided, tangent field, lights and viewer above the surface;
+//      materials/material.cpp), giving the evaluations per camera ray; each model is then timed on
+//      exactly those pairs (ns per evaluation on the real direction distribution, one thread), and
 //      evaluations in the render × ns/eval is the BRDF's CPU time.
 //
 // Checks before anything is reported: every image finite; the skull covers 10–80 % of the camera
@@ -27,12 +27,12 @@
 // the collected pairs give a positive number of evaluations per ray.
 // Output: a Markdown report on stdout.
 #include "bench/bench_common.h"
-#include "render/render_scene.h"
-#include "render/scene_file.h"
-#include "render/shading.h"
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/frame.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
+#include "render/shading.h"
 #include "surface/iso_exact.h"
 #include "surface/surface_scene.h"
 #include "volume/volume.h"
@@ -164,10 +164,14 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&] { return i + 1 < argc ? std::atoi(argv[++i]) : 0; };
-        if (a == "--threads") threads = next();
-        else if (a == "--size") size = next();
-        else if (a == "--spp") spp = next();
-        else if (a == "--stride") stride = next();
+        if (a == "--threads")
+            threads = next();
+        else if (a == "--size")
+            size = next();
+        else if (a == "--spp")
+            spp = next();
+        else if (a == "--stride")
+            stride = next();
         else {
             std::fprintf(stderr, "usage: %s [--threads N] [--size N] [--spp N] [--stride N]\n",
                          argv[0]);
@@ -215,15 +219,17 @@ int main(int argc, char** argv) {
         const double coverage =
             double(lambertBefore.stats.surfaceHits) / double(lambertBefore.stats.rays);
 
-        std::printf("# The paper's Table 7, regenerated\n\n"
-                    "%d×%d, %d jittered samples per pixel, the CThead skull alone (exact "
-                    "iso-surface, opaque), %d threads, all models in one run. Paper: 666 MHz "
-                    "Pentium III, one core.\n\n",
-                    size, size, spp, threads);
-        std::printf("| BRDF | paper (1 core) | Lobe wall (%d threads) | Lobe CPU | speed-up per "
-                    "core | CPU × Lambert-only | ns/eval | BRDF share (a) difference | BRDF share "
-                    "(b) count × ns |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-                    threads);
+        std::printf(
+            "# The paper's Table 7, regenerated\n\n"
+            "%d×%d, %d jittered samples per pixel, the CThead skull alone (exact "
+            "iso-surface, opaque), %d threads, all models in one run. Paper: 666 MHz "
+            "Pentium III, one core.\n\n",
+            size, size, spp, threads);
+        std::printf(
+            "| BRDF | paper (1 core) | Lobe wall (%d threads) | Lobe CPU | speed-up per "
+            "core | CPU × Lambert-only | ns/eval | BRDF share (a) difference | BRDF share "
+            "(b) count × ns |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+            threads);
         double checksum = 0.0;
         for (size_t i = 0; i < timed.size(); ++i) {
             const PaperRow& row = kPaperTable7[i];
@@ -232,25 +238,28 @@ int main(int argc, char** argv) {
             const double ns = nsPerEval(specs[i].objects[0].material.specular, dirs, checksum);
             const double shareA = std::max(0.0, t.cpu - lambertCpu) / t.cpu;
             const double shareB = std::min(1.0, renderEvals * ns * 1e-9 / t.cpu);
-            std::printf("| %s | %d min %02d s | %.2f s | %.2f s | %.0f× | %.2f | %.0f | %.0f %% | "
-                        "%.0f %% |\n",
-                        row.model, row.minutes, row.seconds, t.wall, t.cpu, paperSeconds / t.cpu,
-                        t.cpu / lambertCpu, ns, 100.0 * shareA, 100.0 * shareB);
+            std::printf(
+                "| %s | %d min %02d s | %.2f s | %.2f s | %.0f× | %.2f | %.0f | %.0f %% | "
+                "%.0f %% |\n",
+                row.model, row.minutes, row.seconds, t.wall, t.cpu, paperSeconds / t.cpu,
+                t.cpu / lambertCpu, ns, 100.0 * shareA, 100.0 * shareB);
         }
         std::printf("| (Lambert only) | | %.2f s | %.2f s | | 1.00 | | | |\n\n", lambertWall,
                     lambertCpu);
-        std::printf("Lambert-only render before / after the models: %.2f / %.2f s wall, %.2f / "
-                    "%.2f s CPU (drift on this machine). Skull coverage %.1f %% of the camera "
-                    "rays; %.2f BRDF evaluations per camera ray (%zu pairs from %lld lattice rays, "
-                    "stride %d), %.3g in each render. CPU = process CPU seconds of the render (all "
-                    "threads: a single-core equivalent, so the speed-up is per core against the "
-                    "paper's one core; wall time inflates when other jobs share the cores). Share "
-                    "(a) = (CPU − Lambert-only CPU) / CPU; (b) = evaluations × ns/eval (one "
-                    "thread, on the collected directions) / CPU. Load + Embree build per scene not included. Whole run "
-                    "%.0f s. (checksum %.3g)\n",
-                    lambertBefore.wall, lambertAfter.wall, lambertBefore.cpu, lambertAfter.cpu,
-                    100.0 * coverage, evalsPerRay, dirs.pairs.size(), dirs.rays, stride,
-                    renderEvals, wallNow() - t0, checksum);
+        std::printf(
+            "Lambert-only render before / after the models: %.2f / %.2f s wall, %.2f / "
+            "%.2f s CPU (drift on this machine). Skull coverage %.1f %% of the camera "
+            "rays; %.2f BRDF evaluations per camera ray (%zu pairs from %lld lattice rays, "
+            "stride %d), %.3g in each render. CPU = process CPU seconds of the render (all "
+            "threads: a single-core equivalent, so the speed-up is per core against the "
+            "paper's one core; wall time inflates when other jobs share the cores). Share "
+            "(a) = (CPU − Lambert-only CPU) / CPU; (b) = evaluations × ns/eval (one "
+            "thread, on the collected directions) / CPU. Load + Embree build per scene not "
+            "included. Whole run "
+            "%.0f s. (checksum %.3g)\n",
+            lambertBefore.wall, lambertAfter.wall, lambertBefore.cpu, lambertAfter.cpu,
+            100.0 * coverage, evalsPerRay, dirs.pairs.size(), dirs.rays, stride, renderEvals,
+            wallNow() - t0, checksum);
         return 0;
     } catch (const Error& e) {
         std::fprintf(stderr, "error: %s\n", e.what());

@@ -61,7 +61,8 @@ private:
     std::mutex mutex_;
 };
 
-int tileCosts(const std::string& scenePath, int width, int spp, int threads, const std::string& csv) {
+int tileCosts(const std::string& scenePath, int width, int spp, int threads,
+              const std::string& csv) {
     SceneSpec spec = loadSceneFile(scenePath);
     if (width > 0) {
         spec.height = int(double(spec.height) * width / spec.width + 0.5);
@@ -82,15 +83,16 @@ int tileCosts(const std::string& scenePath, int width, int spp, int threads, con
     double sum = 0.0, most = 0.0;
     for (size_t i = 0; i < timed.tiles().size(); ++i) {
         const Tile& t = timed.tiles()[i];
-        out << t.x0 << ',' << t.y0 << ',' << t.x1 << ',' << t.y1 << ',' << timed.seconds()[i] << '\n';
+        out << t.x0 << ',' << t.y0 << ',' << t.x1 << ',' << t.y1 << ',' << timed.seconds()[i]
+            << '\n';
         sum += timed.seconds()[i];
         most = std::max(most, timed.seconds()[i]);
     }
-    std::printf("%s: %dx%d, %d spp, %zu tiles: %.2f s wall, %.2f CPU s; tile seconds sum %.2f, "
-                "mean %.2f ms, max %.2f ms -> %s\n",
-                scenePath.c_str(), spec.width, spec.height, spec.samplesPerPixel,
-                timed.tiles().size(), wall, cpu, sum, 1e3 * sum / double(timed.tiles().size()),
-                1e3 * most, csv.c_str());
+    std::printf(
+        "%s: %dx%d, %d spp, %zu tiles: %.2f s wall, %.2f CPU s; tile seconds sum %.2f, "
+        "mean %.2f ms, max %.2f ms -> %s\n",
+        scenePath.c_str(), spec.width, spec.height, spec.samplesPerPixel, timed.tiles().size(),
+        wall, cpu, sum, 1e3 * sum / double(timed.tiles().size()), 1e3 * most, csv.c_str());
     return out ? 0 : 1;
 }
 
@@ -118,10 +120,11 @@ int messageCost(int tileCount) {
         });
         const double wall = clock.wall();
         if (cluster::rank() == 1)
-            std::printf("rank 1 of %d, tiles of %s: %ld of %d tiles in %.3f s: %.1f us per tile "
-                        "beyond its work\n",
-                        cluster::size(), workOnRank1 ? "1 ms" : "0 ms", mine.load(), tileCount, wall,
-                        1e6 * (wall / double(mine.load()) - (work ? kWork : 0.0)));
+            std::printf(
+                "rank 1 of %d, tiles of %s: %ld of %d tiles in %.3f s: %.1f us per tile "
+                "beyond its work\n",
+                cluster::size(), workOnRank1 ? "1 ms" : "0 ms", mine.load(), tileCount, wall,
+                1e6 * (wall / double(mine.load()) - (work ? kWork : 0.0)));
         std::fflush(stdout);
     }
 #ifdef LOBE_HAVE_MPI
@@ -154,22 +157,32 @@ int main(int argc, char** argv) {
     bool message = false;
     for (int i = 1; i < argc; ++i) {
         bench::Args a(argc, argv, i);
-        if (a.flag() == "--width") width = a.integer();
-        else if (a.flag() == "--spp") spp = a.integer();
-        else if (a.flag() == "--threads") threads = a.integer();
-        else if (a.flag() == "--csv") csv = a.text();
-        else if (a.flag() == "--tiles") tiles = a.integer();
-        else if (a.flag() == "--message-cost") message = true;
-        else scene = a.flag();
+        if (a.flag() == "--width")
+            width = a.integer();
+        else if (a.flag() == "--spp")
+            spp = a.integer();
+        else if (a.flag() == "--threads")
+            threads = a.integer();
+        else if (a.flag() == "--csv")
+            csv = a.text();
+        else if (a.flag() == "--tiles")
+            tiles = a.integer();
+        else if (a.flag() == "--message-cost")
+            message = true;
+        else
+            scene = a.flag();
     }
     int code = 0;
     try {
-        if (message) code = messageCost(tiles);
+        if (message)
+            code = messageCost(tiles);
         else if (scene.empty()) {
-            std::fprintf(stderr, "usage: lobe_bench_tiles SCENE [--width W] [--spp S] --csv FILE\n"
-                                 "       mpirun -n 2 lobe_bench_tiles --message-cost\n");
+            std::fprintf(stderr,
+                         "usage: lobe_bench_tiles SCENE [--width W] [--spp S] --csv FILE\n"
+                         "       mpirun -n 2 lobe_bench_tiles --message-cost\n");
             code = 1;
-        } else code = tileCosts(scene, width, spp, threads, csv);
+        } else
+            code = tileCosts(scene, width, spp, threads, csv);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "lobe_bench_tiles: %s\n", e.what());
         code = 1;

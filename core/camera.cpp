@@ -20,7 +20,8 @@ PinholeCamera::PinholeCamera(const Vec3& position, const Vec3& target, const Vec
         throw Error("camera: crop window must satisfy 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1");
     forward_ = normalized(view);
     const Vec3 right = forward_.cross(up);
-    if (!(right.length() > 1e-9)) throw Error("camera: up vector is parallel to the view direction");
+    if (!(right.length() > 1e-9))
+        throw Error("camera: up vector is parallel to the view direction");
     right_ = normalized(right);
     up_ = right_.cross(forward_);
     halfHeight_ = std::tan(radians(vfovDegrees) * 0.5);

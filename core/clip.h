@@ -80,8 +80,10 @@ inline ClipIntervals shapeIntervals(const ClipShape& s, const Ray& ray, const Cl
         const double t = -s0 / dn;
         // The kept half-space's outward normal is −n.
         ClipBound c{t, true, s.cap, -n};
-        if (dn > 0.0) add(out, t > a.t ? c : a, b);   // kept for t ≥ t*
-        else add(out, a, t < b.t ? c : b);            // kept for t ≤ t*
+        if (dn > 0.0)
+            add(out, t > a.t ? c : a, b);  // kept for t ≥ t*
+        else
+            add(out, a, t < b.t ? c : b);  // kept for t ≤ t*
         return out;
     }
     // Box: the slab method. Entry and exit t and the box's outward normals there.
@@ -115,8 +117,9 @@ inline ClipIntervals shapeIntervals(const ClipShape& s, const Ray& ray, const Cl
     }
     const bool hits = t0 <= t1;
     if (!s.invert) {
-        if (hits) add(out, t0 > a.t ? ClipBound{t0, true, s.cap, n0} : a,
-                      t1 < b.t ? ClipBound{t1, true, s.cap, n1} : b);
+        if (hits)
+            add(out, t0 > a.t ? ClipBound{t0, true, s.cap, n0} : a,
+                t1 < b.t ? ClipBound{t1, true, s.cap, n1} : b);
         return out;
     }
     if (!hits) {
@@ -146,7 +149,8 @@ inline ClipIntervals intersect(const ClipIntervals& x, const ClipIntervals& y) {
 }  // namespace clip_detail
 
 // The parts of [ray.tMin, ray.tMax] that every shape of every list keeps.
-inline ClipIntervals clipRay(const Ray& ray, const std::vector<const std::vector<ClipShape>*>& lists) {
+inline ClipIntervals clipRay(const Ray& ray,
+                             const std::vector<const std::vector<ClipShape>*>& lists) {
     ClipIntervals out;
     const ClipBound a{ray.tMin, false, false, Vec3(0.0)}, b{ray.tMax, false, false, Vec3(0.0)};
     clip_detail::add(out, a, b);
@@ -191,7 +195,8 @@ inline void clipBox(const std::vector<ClipShape>& shapes, Vec3& lo, Vec3& hi) {
             }
             continue;
         }
-        Vec3 nlo(std::numeric_limits<double>::infinity()), nhi(-std::numeric_limits<double>::infinity());
+        Vec3 nlo(std::numeric_limits<double>::infinity()),
+            nhi(-std::numeric_limits<double>::infinity());
         auto grow = [&](const Vec3& p) {
             for (int k = 0; k < 3; ++k) {
                 nlo[k] = std::min(nlo[k], p[k]);

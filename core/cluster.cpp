@@ -3,8 +3,8 @@
 #include "core/error.h"
 #include "core/progress.h"
 
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -57,8 +57,9 @@ void start(int*, char***) {
     // files at once.
     const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
     if (size && std::atoi(size) > 1)
-        throw Error("this lobe was built without MPI: run it without mpirun, or install "
-                    "libopenmpi-dev (scripts/setup.sh) and rebuild");
+        throw Error(
+            "this lobe was built without MPI: run it without mpirun, or install "
+            "libopenmpi-dev (scripts/setup.sh) and rebuild");
 }
 void stop() {}
 [[noreturn]] void abort(int code) { std::exit(code); }
@@ -88,7 +89,8 @@ constexpr int kReply = 100;
 constexpr int kGatherHead = 10;
 constexpr int kGatherData = 11;
 constexpr size_t kChunk = size_t(1) << 30;
-constexpr int kPollSleepUs = 500;  // rank 0's tile server between empty polls (see serve())  // MPI counts are int: send at most 1 GiB at a time
+constexpr int kPollSleepUs = 500;  // rank 0's tile server between empty polls (see serve())  // MPI
+                                   // counts are int: send at most 1 GiB at a time
 
 void check(int code, const char* what) {
     if (code == MPI_SUCCESS) return;
@@ -116,8 +118,8 @@ public:
     }
 
     int next(int slot, int finished) override {
-        if (finished < 0 && faultInjectedHere()) throw Error("fault injected on rank " +
-                                                             std::to_string(g_rank) + " (LOBE_FAULT_RANK)");
+        if (finished < 0 && faultInjectedHere())
+            throw Error("fault injected on rank " + std::to_string(g_rank) + " (LOBE_FAULT_RANK)");
         if (g_rank == 0) {
             if (finished >= 0) progress_->advance(tilePixels(tiles_[size_t(finished)]));
             return take();
@@ -186,26 +188,30 @@ private:
             while (done < g_size - 1) {
                 int ready = 0;
                 MPI_Status status;
-                check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, g_tileComm, &ready, &status), "probe");
+                check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, g_tileComm, &ready, &status),
+                      "probe");
                 if (!ready) {
                     std::this_thread::sleep_for(std::chrono::microseconds(kPollSleepUs));
                     continue;
                 }
                 if (status.MPI_TAG == kDone) {
                     check(MPI_Recv(nullptr, 0, MPI_INT, status.MPI_SOURCE, kDone, g_tileComm,
-                                   MPI_STATUS_IGNORE), "receive");
+                                   MPI_STATUS_IGNORE),
+                          "receive");
                     ++done;
                     continue;
                 }
                 int request[2] = {0, -1};
                 check(MPI_Recv(request, 2, MPI_INT, status.MPI_SOURCE, kRequest, g_tileComm,
-                               MPI_STATUS_IGNORE), "receive");
+                               MPI_STATUS_IGNORE),
+                      "receive");
                 if (request[1] >= 0) progress_->advance(tilePixels(tiles_[size_t(request[1])]));
                 if (request[0] < 0) continue;  // a count only, no tile asked for
                 const int i = counter_.fetch_add(1);
                 const int reply = i < int(tiles_.size()) ? i : -1;
                 check(MPI_Send(&reply, 1, MPI_INT, status.MPI_SOURCE, kReply + request[0],
-                               g_tileComm), "send");
+                               g_tileComm),
+                      "send");
             }
         } catch (const std::exception& e) {
             serverError_ = e.what();
@@ -225,13 +231,15 @@ private:
 void sendBytes(const unsigned char* data, size_t bytes, int to) {
     for (size_t at = 0; at < bytes; at += kChunk)
         check(MPI_Send(data + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, to, kGatherData,
-                       MPI_COMM_WORLD), "send");
+                       MPI_COMM_WORLD),
+              "send");
 }
 
 void receiveBytes(unsigned char* data, size_t bytes, int from) {
     for (size_t at = 0; at < bytes; at += kChunk)
         check(MPI_Recv(data + at, int(std::min(kChunk, bytes - at)), MPI_BYTE, from, kGatherData,
-                       MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive");
+                       MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+              "receive");
 }
 
 }  // namespace
@@ -322,8 +330,8 @@ void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuf
             for (const PixelBuffer& b : buffers)
                 for (int y = t.y0; y < t.y1; ++y) {
                     const size_t bytes = size_t(t.x1 - t.x0) * b.bytesPerPixel;
-                    fn(b.data + (size_t(y - firstRow) * size_t(width) + size_t(t.x0)) *
-                                    b.bytesPerPixel,
+                    fn(b.data +
+                           (size_t(y - firstRow) * size_t(width) + size_t(t.x0)) * b.bytesPerPixel,
                        offset, bytes);
                     offset += bytes;
                 }
@@ -350,14 +358,17 @@ void gatherTiles(const TileSource& source, int width, const std::vector<PixelBuf
     }
     for (int from = 1; from < g_size; ++from) {
         uint64_t count = 0;
-        check(MPI_Recv(&count, 1, MPI_UINT64_T, from, kGatherHead, MPI_COMM_WORLD,
-                       MPI_STATUS_IGNORE), "receive");
+        check(
+            MPI_Recv(&count, 1, MPI_UINT64_T, from, kGatherHead, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+            "receive");
         if (count == 0) continue;
-        if (count > tiles.size()) throw Error("MPI gather: rank " + std::to_string(from) +
-                                              " sent more tiles than the image has");
+        if (count > tiles.size())
+            throw Error("MPI gather: rank " + std::to_string(from) +
+                        " sent more tiles than the image has");
         std::vector<int> theirs(count);
         check(MPI_Recv(theirs.data(), int(count), MPI_INT, from, kGatherHead, MPI_COMM_WORLD,
-                       MPI_STATUS_IGNORE), "receive");
+                       MPI_STATUS_IGNORE),
+              "receive");
         for (int i : theirs)
             if (i < 0 || size_t(i) >= tiles.size())
                 throw Error("MPI gather: rank " + std::to_string(from) + " sent tile " +

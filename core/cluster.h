@@ -36,8 +36,8 @@ void stop();
 // Ends every process of the run with `code` (MPI_Abort); a plain exit when not distributed.
 [[noreturn]] void abort(int code);
 
-int rank();                               // 0 … size() − 1
-int size();                               // processes in the run (1 without mpirun)
+int rank();  // 0 … size() − 1
+int size();  // processes in the run (1 without mpirun)
 inline bool distributed() { return size() > 1; }
 inline bool isRoot() { return rank() == 0; }
 

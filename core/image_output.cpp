@@ -6,13 +6,12 @@
 #include "core/temporary_file.h"
 
 #include <OpenImageIO/imageio.h>
-
 #include <unistd.h>
 
 #include <algorithm>
-#include <csetjmp>
 #include <cerrno>
 #include <cmath>
+#include <csetjmp>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -28,7 +27,6 @@ namespace lobe {
 namespace {
 
 namespace fs = std::filesystem;
-
 
 bool isFloatFormat(const std::string& ext) { return ext == ".exr"; }
 
@@ -53,7 +51,7 @@ class SampleHash {
 public:
     void add(const void* data, size_t bytes) {
         const unsigned char* p = static_cast<const unsigned char*>(data);
-        for (; bytes > 0; ) {
+        for (; bytes > 0;) {
             uint64_t word = 0;
             const size_t n = std::min<size_t>(8, bytes);
             std::memcpy(&word, p, n);
@@ -161,21 +159,21 @@ private:
 struct ImageBandWriter::Impl {
     std::string path, ext;
     int width = 0, height = 0;
-    int channels = 0;       // floats a pixel in write()
+    int channels = 0;  // floats a pixel in write()
     bool withAlpha = false;
     int bits = 8;
     bool isFloat = false, jpeg = false;
     OIIO::ImageSpec spec;
-    std::unique_ptr<PendingImage> pending;  // removes the temporary file unless finished
+    std::unique_ptr<PendingImage> pending;      // removes the temporary file unless finished
     std::unique_ptr<OIIO::ImageOutput> output;  // every format but JPEG
-    std::unique_ptr<JpegFile> jpegFile;          // JPEG
-    bool open = false;                           // rows may still be written
+    std::unique_ptr<JpegFile> jpegFile;         // JPEG
+    bool open = false;                          // rows may still be written
     std::string temporary;
     int nextRow = 0;
     SampleHash written;
-    std::vector<float> floats;            // EXR with alpha: A inserted after B
-    std::vector<unsigned char> bytes;     // 8-bit samples
-    std::vector<unsigned short> words;    // 16-bit samples
+    std::vector<float> floats;          // EXR with alpha: A inserted after B
+    std::vector<unsigned char> bytes;   // 8-bit samples
+    std::vector<unsigned short> words;  // 16-bit samples
 
     [[noreturn]] void fail(const std::string& why) const {
         throw Error("cannot write '" + path + "': " + why);
@@ -204,10 +202,12 @@ ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
     if (!parent.empty() && !fs::is_directory(parent))
         m.fail("folder '" + parent.string() + "' does not exist");
     if (withAlpha && m.jpeg)
-        m.fail("JPEG has no alpha channel (write .png, .tif or .exr, or give the image a "
-               "background colour)");
+        m.fail(
+            "JPEG has no alpha channel (write .png, .tif or .exr, or give the image a "
+            "background colour)");
     if (options.bits != 8 && !(options.bits == 16 && (png || m.ext == ".tif" || m.ext == ".tiff")))
-        m.fail(std::to_string(options.bits) + "-bit output is for .png and .tif only (8 or 16 bits)");
+        m.fail(std::to_string(options.bits) +
+               "-bit output is for .png and .tif only (8 or 16 bits)");
     if (m.channels < 3 || width < 1 || height < 1) m.fail("an image needs R, G, B and a size");
 
     if (m.isFloat) {
@@ -218,8 +218,9 @@ ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
         if (withAlpha) m.spec.alpha_channel = 3;
         m.spec.attribute("compression", "zip");
     } else {
-        m.spec = OIIO::ImageSpec(width, height, withAlpha ? 4 : 3,
-                                 options.bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
+        m.spec =
+            OIIO::ImageSpec(width, height, withAlpha ? 4 : 3,
+                            options.bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
         if (withAlpha) {
             m.spec.alpha_channel = 3;
             m.spec.attribute("oiio:UnassociatedAlpha", 1);  // already divided: not again
@@ -286,8 +287,10 @@ void ImageBandWriter::write(int rows, const float* data, const float* alpha) {
         // with alpha the colour is divided by it (straight alpha), 0 where nothing covers.
         const int out = alpha ? 4 : 3;
         const double scale = m.bits == 16 ? 65535.0 : 255.0;
-        if (m.bits == 16) m.words.resize(n * size_t(out));
-        else m.bytes.resize(n * size_t(out));
+        if (m.bits == 16)
+            m.words.resize(n * size_t(out));
+        else
+            m.bytes.resize(n * size_t(out));
         for (size_t i = 0; i < n; ++i) {
             double a = 1.0;
             if (alpha) a = std::isfinite(alpha[i]) ? std::clamp(double(alpha[i]), 0.0, 1.0) : 0.0;
@@ -297,12 +300,16 @@ void ImageBandWriter::write(int rows, const float* data, const float* alpha) {
                     v = a;
                 } else {
                     const double premultiplied = data[i * channels + size_t(c)];
-                    const double straight = !alpha ? premultiplied : a > 0.0 ? premultiplied / a : 0.0;
+                    const double straight = !alpha    ? premultiplied
+                                            : a > 0.0 ? premultiplied / a
+                                                      : 0.0;
                     v = srgbEncode(std::isfinite(straight) ? straight : 0.0);
                 }
                 const long q = std::lround(v * scale);
-                if (m.bits == 16) m.words[i * size_t(out) + size_t(c)] = static_cast<unsigned short>(q);
-                else m.bytes[i * size_t(out) + size_t(c)] = static_cast<unsigned char>(q);
+                if (m.bits == 16)
+                    m.words[i * size_t(out) + size_t(c)] = static_cast<unsigned short>(q);
+                else
+                    m.bytes[i * size_t(out) + size_t(c)] = static_cast<unsigned char>(q);
             }
         }
         if (m.bits == 16) {
@@ -330,7 +337,9 @@ PendingImage ImageBandWriter::finish() {
                " rows written");
     m.open = false;
     const bool closed = m.jpegFile ? m.jpegFile->finish() : m.output->close();
-    const std::string error = closed ? "" : m.jpegFile ? m.jpegFile->error() : oneLine(m.output->geterror());
+    const std::string error = closed       ? ""
+                              : m.jpegFile ? m.jpegFile->error()
+                                           : oneLine(m.output->geterror());
     m.output.reset();
     m.jpegFile.reset();
     if (!closed) m.fail(error);
@@ -367,8 +376,8 @@ PendingImage ImageBandWriter::finish() {
 namespace {
 
 PendingImage writePixels(const std::string& path, int width, int height,
-                         const std::vector<std::string>& channelNames, const std::vector<float>& data,
-                         const ImageWriteOptions& options = {}) {
+                         const std::vector<std::string>& channelNames,
+                         const std::vector<float>& data, const ImageWriteOptions& options = {}) {
     const std::vector<float>* alpha = options.alpha;
     if (alpha && alpha->size() != size_t(width) * size_t(height))
         throw Error("cannot write '" + path + "': the alpha channel does not match the image size");
@@ -386,11 +395,13 @@ bool isSupportedImageExtension(const std::string& path) {
 }
 
 PendingImage::PendingImage(std::string temporary, std::string path)
-    : temporary_(std::move(temporary)), path_(std::move(path)),
+    : temporary_(std::move(temporary)),
+      path_(std::move(path)),
       guard_(std::make_unique<RemovedOnInterrupt>(temporary_)) {}
 
 PendingImage::PendingImage(PendingImage&& other) noexcept
-    : temporary_(std::move(other.temporary_)), path_(std::move(other.path_)),
+    : temporary_(std::move(other.temporary_)),
+      path_(std::move(other.path_)),
       guard_(std::move(other.guard_)) {
     other.temporary_.clear();
 }
@@ -402,7 +413,8 @@ PendingImage::~PendingImage() {
 void PendingImage::commit() {
     std::error_code ec;
     fs::rename(temporary_, path_, ec);
-    if (ec) throw Error("cannot write '" + path_ + "': " + ec.message());  // the destructor removes it
+    if (ec)
+        throw Error("cannot write '" + path_ + "': " + ec.message());  // the destructor removes it
     temporary_.clear();
 }
 
@@ -411,10 +423,12 @@ void PendingImage::commitAll(std::vector<PendingImage>& images) {
         std::error_code ec;
         const fs::file_status st = fs::symlink_status(p.path_, ec);
         if (fs::is_directory(st))
-            throw Error("cannot write '" + p.path_ + "': a folder of that name exists (none of the " +
+            throw Error("cannot write '" + p.path_ +
+                        "': a folder of that name exists (none of the " +
                         std::to_string(images.size()) + " files was put in place)");
         if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
-            throw Error("cannot write '" + p.path_ + "': something other than a file has that name");
+            throw Error("cannot write '" + p.path_ +
+                        "': something other than a file has that name");
     }
     struct Done {
         std::string path, previous;  // previous: a hard link to the file it replaced, or ""
@@ -422,8 +436,10 @@ void PendingImage::commitAll(std::vector<PendingImage>& images) {
     std::vector<Done> done;
     const auto undo = [&] {
         for (auto it = done.rbegin(); it != done.rend(); ++it) {
-            if (!it->previous.empty()) std::rename(it->previous.c_str(), it->path.c_str());
-            else std::remove(it->path.c_str());
+            if (!it->previous.empty())
+                std::rename(it->previous.c_str(), it->path.c_str());
+            else
+                std::remove(it->path.c_str());
         }
     };
     for (PendingImage& p : images) {
@@ -478,7 +494,8 @@ std::vector<float> filmChannels(const Film& film, double exposure, const ImageCh
     const RgbImage rgb = filmToRgb(film, exposure);
     const size_t n = size_t(film.width()) * film.height();
     const size_t k = extra.names.size();
-    if (extra.data.size() != n * k) throw Error("internal: extra channels do not match the image size");
+    if (extra.data.size() != n * k)
+        throw Error("internal: extra channels do not match the image size");
     const size_t stride = 6 + k;
     std::vector<float> data(n * stride);
     for (size_t i = 0; i < n; ++i) {
@@ -560,8 +577,8 @@ void forEachRgbBand(const std::string& path, long long bandPixels,
     // The channels from the first to the last of R, G, B, and R, G, B picked from them.
     const int first = std::min({channel[0], channel[1], channel[2]});
     const int count = std::max({channel[0], channel[1], channel[2]}) - first + 1;
-    const int bandRows = int(std::clamp<long long>(bandPixels / std::max(1, spec.width), 1,
-                                                   std::max(1, spec.height)));
+    const int bandRows = int(
+        std::clamp<long long>(bandPixels / std::max(1, spec.width), 1, std::max(1, spec.height)));
     std::vector<float> rows;
     for (int y0 = 0; y0 < spec.height; y0 += bandRows) {
         const int y1 = std::min(spec.height, y0 + bandRows);
@@ -587,7 +604,8 @@ RgbImage readImage(const std::string& path) {
     std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
         throw Error("cannot read image '" + path + "': " + oneLine(in->geterror()));
-    const bool encoded = spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
+    const bool encoded =
+        spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16;
     RgbImage image(spec.width, spec.height);
     for (size_t i = 0, n = size_t(spec.width) * spec.height; i < n; ++i)
         for (int c = 0; c < 3; ++c) {
@@ -601,7 +619,8 @@ RgbImage readImage(const std::string& path) {
 
 std::string lowerExtension(const std::string& path) {
     std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     return ext;
 }
 

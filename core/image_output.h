@@ -4,9 +4,9 @@
 // ImageWriteOptions). With an alpha (coverage) channel the colour given is premultiplied by it
 // (associated alpha, as an EXR stores it: channel A after R, G, B); PNG and TIFF store colour
 // divided by alpha (straight alpha, as those formats expect), JPEG has no alpha and refuses it.
-// String attributes go into an EXR's header and a PNG's text chunks (iTXt/tEXt). Files are written under a
-// temporary name in the same folder and renamed, so a failed write never leaves a partial file.
-// This lives in its own library (lobe_image_io) because OpenImageIO costs every process that
+// String attributes go into an EXR's header and a PNG's text chunks (iTXt/tEXt). Files are written
+// under a temporary name in the same folder and renamed, so a failed write never leaves a partial
+// file. This lives in its own library (lobe_image_io) because OpenImageIO costs every process that
 // links it ~0.3 s of start-up (docs/dependencies.md, pitfall 3).
 #pragma once
 

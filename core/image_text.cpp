@@ -50,7 +50,8 @@ int layout(Font& f, const std::vector<char32_t>& text, int size, bool render, Vi
     FT_UInt previous = 0;
     for (char32_t cp : text) {
         FT_UInt index = cp < 0x20 || cp == 0x7F ? 0 : FT_Get_Char_Index(f.face, FT_ULong(cp));
-        if (index != 0 && FT_Load_Glyph(f.face, index, render ? FT_LOAD_RENDER : FT_LOAD_DEFAULT) != 0)
+        if (index != 0 &&
+            FT_Load_Glyph(f.face, index, render ? FT_LOAD_RENDER : FT_LOAD_DEFAULT) != 0)
             index = 0;
         if (index == 0) {
             visit(pen, 0u, nullptr);

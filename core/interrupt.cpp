@@ -1,9 +1,10 @@
 #include "core/interrupt.h"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstring>
-#include <unistd.h>
 
 namespace lobe {
 namespace {

@@ -95,7 +95,8 @@ void checkFits(double bytes, const std::string& what) {
     const double limit = budget.bytes > 0.0 ? budget.bytes / 2.0 : 1e12;
     if (!(bytes <= limit)) {
         char text[160];
-        std::snprintf(text, sizeof text, " needs %.3g GB, more than half of the %.3g GB this process may use (",
+        std::snprintf(text, sizeof text,
+                      " needs %.3g GB, more than half of the %.3g GB this process may use (",
                       bytes / 1e9, (budget.bytes > 0.0 ? budget.bytes : 2e12) / 1e9);
         throw Error(what + text + (budget.source.empty() ? "unknown" : budget.source) + ")");
     }

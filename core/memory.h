@@ -17,7 +17,8 @@ double physicalMemoryBytes();
 // the name of the one that binds. bytes is 0 when none is known.
 struct MemoryBudget {
     double bytes = 0.0;
-    std::string source;  // "physical memory", "ulimit -v (RLIMIT_AS)", "the cgroup's memory.max", ...
+    std::string
+        source;  // "physical memory", "ulimit -v (RLIMIT_AS)", "the cgroup's memory.max", ...
 };
 MemoryBudget memoryBudget();
 

@@ -34,10 +34,10 @@ RgbImage filmToRgb(const Film& film, double exposure = 1.0);
 
 // Display tone curves for 8-bit output (the EXR stays linear). "clip": values above 1 clip to
 // white. "shoulder": the identity up to a knee k = 0.6, then k + (1 − k)(1 − e^{−(x − k)/(1 − k)}),
-// continuous with slope 1 at the knee and approaching 1 (reached in doubles only past x ≈ 15), so highlights keep
-// their shape instead of merging into flat white (a filmic shoulder; Reinhard et al. 2002 discuss
-// why a global curve with a soft shoulder keeps detail a clip loses). Applied per channel, so a
-// bright highlight also desaturates towards white as film does.
+// continuous with slope 1 at the knee and approaching 1 (reached in doubles only past x ≈ 15), so
+// highlights keep their shape instead of merging into flat white (a filmic shoulder; Reinhard et
+// al. 2002 discuss why a global curve with a soft shoulder keeps detail a clip loses). Applied per
+// channel, so a bright highlight also desaturates towards white as film does.
 double shoulderTone(double linear);
 // Throws lobe::Error for an unknown curve name.
 void applyTone(RgbImage& image, const std::string& curve);

@@ -3,8 +3,8 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdint>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -53,11 +53,11 @@ std::string temporarySibling(const std::string& path, bool keepExtension) {
     }
     if (first) reclaimDeadTemporaries(folder.string());
     std::random_device rd;
-    const std::string owner = hostName() + "~" + std::to_string(::getpid()) + "~" +
-                              std::to_string(rd() % 1000000);
-    const std::string name = keepExtension ? "." + p.stem().string() + ".partial-" + owner +
-                                                 p.extension().string()
-                                           : "." + p.filename().string() + ".partial-" + owner;
+    const std::string owner =
+        hostName() + "~" + std::to_string(::getpid()) + "~" + std::to_string(rd() % 1000000);
+    const std::string name =
+        keepExtension ? "." + p.stem().string() + ".partial-" + owner + p.extension().string()
+                      : "." + p.filename().string() + ".partial-" + owner;
     return (p.parent_path() / name).string();
 }
 

@@ -3,11 +3,11 @@
 #include "core/progress.h"
 #include "core/rng.h"
 
-#include <tbb/parallel_for.h>
+#include <pmmintrin.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include <pmmintrin.h>
 #include <xmmintrin.h>
 
 #include <algorithm>
@@ -27,8 +27,8 @@ void runWithThreads(int threads, const std::function<void()>& fn) {
     // currently limited to N" on stderr (even under --quiet) and gives fewer.
     std::unique_ptr<tbb::global_control> raised;
     if (threads > tbb::info::default_concurrency())
-        raised = std::make_unique<tbb::global_control>(
-            tbb::global_control::max_allowed_parallelism, size_t(threads));
+        raised = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                       size_t(threads));
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
         setFlushToZero();

@@ -67,9 +67,9 @@ private:
 inline int64_t tilePixels(const Tile& t) { return int64_t(t.x1 - t.x0) * (t.y1 - t.y0); }
 
 struct SchedulerOptions {
-    int threads = 0;      // 0: all hardware threads
-    int tileSize = 32;    // pixels per tile side
-    bool progress = true; // show a progress display on stderr
+    int threads = 0;       // 0: all hardware threads
+    int tileSize = 32;     // pixels per tile side
+    bool progress = true;  // show a progress display on stderr
     std::string label = "render";
     // When set, pixels are reported to this reporter (one display over a batch of renders)
     // instead of a reporter of the scheduler's own.

@@ -20,14 +20,20 @@ inline std::vector<char32_t> decodeUtf8(const std::string& text) {
         const unsigned char b = s[i];
         int length = 0;
         char32_t cp = 0, min = 0;
-        if (b < 0x80) length = 1, cp = b;
-        else if ((b & 0xE0) == 0xC0) length = 2, cp = b & 0x1F, min = 0x80;
-        else if ((b & 0xF0) == 0xE0) length = 3, cp = b & 0x0F, min = 0x800;
-        else if ((b & 0xF8) == 0xF0) length = 4, cp = b & 0x07, min = 0x10000;
+        if (b < 0x80)
+            length = 1, cp = b;
+        else if ((b & 0xE0) == 0xC0)
+            length = 2, cp = b & 0x1F, min = 0x80;
+        else if ((b & 0xF0) == 0xE0)
+            length = 3, cp = b & 0x0F, min = 0x800;
+        else if ((b & 0xF8) == 0xF0)
+            length = 4, cp = b & 0x07, min = 0x10000;
         bool ok = length > 0 && i + size_t(length) <= n;
         for (int k = 1; ok && k < length; ++k) {
-            if ((s[i + size_t(k)] & 0xC0) != 0x80) ok = false;
-            else cp = (cp << 6) | (s[i + size_t(k)] & 0x3F);
+            if ((s[i + size_t(k)] & 0xC0) != 0x80)
+                ok = false;
+            else
+                cp = (cp << 6) | (s[i + size_t(k)] & 0x3F);
         }
         if (ok && (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))) ok = false;
         if (!ok) {

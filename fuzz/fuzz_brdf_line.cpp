@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (!std::isfinite(x)) std::abort();
     static const std::vector<lobe::Brdf> models = [] {
         std::vector<lobe::Brdf> all;
-        for (const lobe::BrdfModelInfo& m : lobe::brdfModels()) all.push_back(lobe::makeBrdf(m.name, {}));
+        for (const lobe::BrdfModelInfo& m : lobe::brdfModels())
+            all.push_back(lobe::makeBrdf(m.name, {}));
         return all;
     }();
     lobe::Vec3 wi, wo;

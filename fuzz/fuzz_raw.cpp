@@ -5,10 +5,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 8) return 0;
-    static const lobe::VoxelType kTypes[] = {
-        lobe::VoxelType::kUint8,  lobe::VoxelType::kInt8,   lobe::VoxelType::kUint16,
-        lobe::VoxelType::kInt16,  lobe::VoxelType::kUint32, lobe::VoxelType::kInt32,
-        lobe::VoxelType::kFloat32, lobe::VoxelType::kFloat64};
+    static const lobe::VoxelType kTypes[] = {lobe::VoxelType::kUint8,   lobe::VoxelType::kInt8,
+                                             lobe::VoxelType::kUint16,  lobe::VoxelType::kInt16,
+                                             lobe::VoxelType::kUint32,  lobe::VoxelType::kInt32,
+                                             lobe::VoxelType::kFloat32, lobe::VoxelType::kFloat64};
     lobe::RawLayout layout;
     layout.dims = {int(data[0] % 33), int(data[1] % 33), int(data[2] % 33)};
     layout.type = kTypes[data[3] % 8];

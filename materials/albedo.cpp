@@ -38,7 +38,9 @@ Spectrum normalIncidenceAlbedoBands(const Brdf& brdf) {
     return sum;
 }
 
-double normalIncidenceAlbedo(const Brdf& brdf) { return normalIncidenceAlbedoBands(brdf).average(); }
+double normalIncidenceAlbedo(const Brdf& brdf) {
+    return normalIncidenceAlbedoBands(brdf).average();
+}
 
 double albedoScale(const Brdf& brdf, double target) {
     const double a = normalIncidenceAlbedo(brdf);

@@ -19,10 +19,10 @@ CookTorrance CookTorrance::fromParams(const ParamValues& p) {
 Spectrum CookTorrance::eval(const Vec3& wi, const Vec3& wo) const {
     Vec3 h;
     if (!aboveHorizon(wi, wo) || !halfVector(wi, wo, h)) return Spectrum(0.0);
-    const double cosH = h.z;             // > 0 since both directions are above the horizon
+    const double cosH = h.z;  // > 0 since both directions are above the horizon
     const double cosH2 = cosH * cosH;
     const double tan2H = (1.0 - cosH2) / cosH2;
-    const double woDotH = wo.dot(h);     // = wi·h > 0
+    const double woDotH = wo.dot(h);  // = wi·h > 0
     const double g = std::min(1.0, 2.0 * cosH * std::min(wo.z, wi.z) / woDotH);
     Spectrum f;
     for (int b = 0; b < kBandCount; ++b) {

@@ -93,7 +93,8 @@ namespace {
 // below 10⁻¹⁶ — under one rounding of the result.
 inline double expSmall(double d) {
     return 1.0 +
-           d * (1.0 + d * (1.0 / 2 + d * (1.0 / 6 + d * (1.0 / 24 + d * (1.0 / 120 + d * (1.0 / 720))))));
+           d * (1.0 +
+                d * (1.0 / 2 + d * (1.0 / 6 + d * (1.0 / 24 + d * (1.0 / 120 + d * (1.0 / 720))))));
 }
 constexpr double kSmallStep = 1.0 / 64.0;
 // A fresh std::exp at least this often keeps the rounding carried along a product of expSmall
@@ -134,8 +135,8 @@ double logSeriesTerm(double m, double g, double lnG, double a) {
     const double u = (g - m) / m, inv = 1.0 / m, inv2 = inv * inv;
     const double stirlingTail =
         inv * (1.0 / 12 - inv2 * (1.0 / 360 - inv2 * (1.0 / 1260 - inv2 / 1680)));
-    return m * (std::log1p(u) - u) - 0.5 * std::log(2.0 * kPi * m) - stirlingTail -
-           std::log(m) - a / m;
+    return m * (std::log1p(u) - u) - 0.5 * std::log(2.0 * kPi * m) - stirlingTail - std::log(m) -
+           a / m;
 }
 
 // The walk up from the peak (the peak's own term included), terms relative to T_peak = 1:
@@ -188,7 +189,7 @@ double addDownFromPeak(double peak, double g, double a, double sum) {
     const double twoA = 2.0 * a;
     const double invG = 1.0 / g;
     const double first = std::max(1.0, peak - termCap(peak));  // the cost bound (termCap)
-    double m = peak - 1.0, t = 1.0;  // the next term is T_m; t = T_{m+1}
+    double m = peak - 1.0, t = 1.0;                            // the next term is T_m; t = T_{m+1}
     const auto count = [&](double mEnd, double s) {
         tTermsSummed += static_cast<std::uint64_t>(peak - mEnd);
         return s;
@@ -203,9 +204,9 @@ double addDownFromPeak(double peak, double g, double a, double sum) {
         for (int done = 0; done < kResync && m >= blocksTo;) {
             // Term k of the block is T_{m−k} = T_{m−k+1}·ratio[k]·e^{−x_{m−k}};
             // factor[k] = e^{−(x_{m−k−1} − x_{m−k})}. inv[j] = 1/(m + 1 − j) ≥ 1/(mSmall − 1).
-            const int n = static_cast<int>(std::min({static_cast<double>(kBlock),
-                                                     static_cast<double>(kResync - done),
-                                                     m - blocksTo + 1.0}));
+            const int n = static_cast<int>(
+                std::min({static_cast<double>(kBlock), static_cast<double>(kResync - done),
+                          m - blocksTo + 1.0}));
             double inv[kBlock + 2], ratio[kBlock], factor[kBlock];
             for (int k = 0; k < n + 2; ++k) inv[k] = 1.0 / (m + 1.0 - k);
             for (int k = 0; k < n; ++k) {
@@ -330,7 +331,8 @@ double addDownStrided(double peak, double g, double a, int h, double sum) {
         return s;
     };
     while (m >= first) {
-        const int n = static_cast<int>(std::min<double>(kStrideBlock, std::floor((m - first) / h) + 1.0));
+        const int n =
+            static_cast<int>(std::min<double>(kStrideBlock, std::floor((m - first) / h) + 1.0));
         double ratio[kStrideBlock], y[kStrideBlock] = {}, step[kStrideBlock];
         strideBlock(m, -1, n, h, invG, a, ratio, y, step);
         const bool small = n < 2 || step[n - 2] <= kSmallStep;
@@ -393,9 +395,9 @@ double HeTorrance::distributionD(double g, double vxy2, double tau, int maxStrid
         peak = std::max(1.0, std::floor(m));
     }
     // The integer peak is floor(root) or the next one: step up while the ratio says T_{m+1} > T_m.
-    for (int k = 0; k < 2 && g * peak / ((peak + 1.0) * (peak + 1.0)) *
-                                     std::exp(a / (peak * (peak + 1.0))) >
-                                 1.0;
+    for (int k = 0;
+         k < 2 &&
+         g * peak / ((peak + 1.0) * (peak + 1.0)) * std::exp(a / (peak * (peak + 1.0))) > 1.0;
          ++k)
         peak += 1.0;
     const double logPeak = logSeriesTerm(peak, g, lnG, a);
@@ -436,7 +438,8 @@ Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
             lastSigma0 = sigma0[b];
             lastTau = tau[b];
             const double s0 = sigma0[b], t = tau[b];
-            const DirectionTerms in = directionTerms(cosI, s0, t), out = directionTerms(cosO, s0, t);
+            const DirectionTerms in = directionTerms(cosI, s0, t),
+                                 out = directionTerms(cosO, s0, t);
             const double kSum = in.k + out.k;
             // z0 ≤ A = (σ0/4)·kSum/sqrt(π/2) (solveZ0). When A/σ0 < 1e-9, (z0/σ0)² < 1e-18 is
             // lost in 1 + (z0/σ0)² and σ = σ0 exactly, so the solve is skipped (the common case:

@@ -49,8 +49,10 @@ Spectrum parseBandValue(const std::string& text, const std::string& what) {
     if (parts.size() == kBandCount)
         return Spectrum(parseNumber(parts[0], what), parseNumber(parts[1], what),
                         parseNumber(parts[2], what));
-    throw Error(what + ": expected one value or three comma-separated values (700, 546.1, "
-                       "435.8 nm), got '" + text + "'");
+    throw Error(what +
+                ": expected one value or three comma-separated values (700, 546.1, "
+                "435.8 nm), got '" +
+                text + "'");
 }
 
 void validateParam(const ParamSpec& spec, const Spectrum& value, const std::string& context) {

@@ -17,8 +17,8 @@ struct Phong {
     static constexpr const char* kTitle = "Phong";
     static constexpr const char* kCitation =
         "B. T. Phong, Illumination for computer generated pictures, CACM 18(6), 1975";
-    // Reciprocity: a function of cos α = r(wi)·wo = −wi.x wo.x − wi.y wo.y + wi.z wo.z, symmetric in
-    // wi and wo.
+    // Reciprocity: a function of cos α = r(wi)·wo = −wi.x wo.x − wi.y wo.y + wi.z wo.z, symmetric
+    // in wi and wo.
     static constexpr BrdfFlags kFlags = {Reciprocal::yes, Costly::no};
     static const ParamTable& paramTable();
     static Phong fromParams(const ParamValues& p);

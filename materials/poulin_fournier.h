@@ -13,8 +13,8 @@
 // closed form (on a cylinder: one angular interval, since only the neighbour can occlude; on the
 // floor: shadow windows of width 2/cos ψ repeating with period D, ψ the projected direction's angle
 // from n, so a floor point can be shadowed by a cylinder many periods away); the floor integrand is
-// constant (N = n) and integrated exactly; on the arc the integrand is rewritten in θ = 2φ − ψi − ψo
-// as (P cos θ − m)^n · ½(P cos θ + q) — one cosine per point, a lobe peaked at θ = 0 — split at
+// constant (N = n) and integrated exactly; on the arc the integrand is rewritten in θ = 2φ − ψi −
+// ψo as (P cos θ − m)^n · ½(P cos θ + q) — one cosine per point, a lobe peaked at θ = 0 — split at
 // the lobe peak, the kink where rN(wi)·wo = 0 and ±3 and ±6.5 lobe widths, pieces whose exact bound
 // is negligible are dropped, and the rest is integrated with the Gauss–Kronrod 7/15 rule, halving
 // the piece with the largest |K15 − G7| until their sum is below 1e-6/2 of f's numerator.

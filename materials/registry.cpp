@@ -9,7 +9,11 @@ namespace {
 
 template <class Model>
 BrdfModelInfo infoFor() {
-    return {Model::kName, Model::kTitle, Model::kCitation, &Model::paramTable(), Model::kFlags,
+    return {Model::kName,
+            Model::kTitle,
+            Model::kCitation,
+            &Model::paramTable(),
+            Model::kFlags,
             [](const ParamValues& values) -> Brdf { return Model::fromParams(values); }};
 }
 
@@ -23,15 +27,9 @@ std::string knownNames() {
 
 const std::vector<BrdfModelInfo>& brdfModels() {
     static const std::vector<BrdfModelInfo> models = {
-        infoFor<Phong>(),
-        infoFor<Strauss>(),
-        infoFor<SchlickLewis>(),
-        infoFor<Ward>(),
-        infoFor<CookTorrance>(),
-        infoFor<PoulinFournier>(),
-        infoFor<HeTorrance>(),
-        infoFor<Lafortune>(),
-        infoFor<AshikhminShirley>(),
+        infoFor<Phong>(),      infoFor<Strauss>(),      infoFor<SchlickLewis>(),
+        infoFor<Ward>(),       infoFor<CookTorrance>(), infoFor<PoulinFournier>(),
+        infoFor<HeTorrance>(), infoFor<Lafortune>(),    infoFor<AshikhminShirley>(),
         infoFor<Lambert>(),
     };
     return models;
@@ -75,8 +73,8 @@ ParamValues parseBrdfSettings(const BrdfModelInfo& model, const std::vector<std:
         const std::string key = setting.substr(0, eq);
         if (!seen.insert(key).second)
             throw Error(context + ": parameter '" + key + "' given twice");
-        setBrdfParam(model, values, key, parseBandValue(setting.substr(eq + 1), context + "." + key),
-                     context);
+        setBrdfParam(model, values, key,
+                     parseBandValue(setting.substr(eq + 1), context + "." + key), context);
     }
     return values;
 }

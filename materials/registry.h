@@ -11,8 +11,8 @@
 namespace lobe {
 
 struct BrdfModelInfo {
-    std::string name;      // registry / CLI name, e.g. "ashikhmin_shirley"
-    std::string title;     // for people, e.g. "Ashikhmin-Shirley"
+    std::string name;   // registry / CLI name, e.g. "ashikhmin_shirley"
+    std::string title;  // for people, e.g. "Ashikhmin-Shirley"
     std::string citation;
     const ParamTable* params = nullptr;
     BrdfFlags flags;

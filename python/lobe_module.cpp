@@ -60,7 +60,9 @@ namespace {
     throw Error(name + ": " + (at.empty() ? "top level" : at) + ": " + what);
 }
 
-std::string typeName(const py::handle& h) { return py::str(py::type::handle_of(h).attr("__name__")); }
+std::string typeName(const py::handle& h) {
+    return py::str(py::type::handle_of(h).attr("__name__"));
+}
 
 bool isNibabelImage(const py::handle& h) {
     return py::hasattr(h, "dataobj") && py::hasattr(h, "affine") && py::hasattr(h, "header");
@@ -96,19 +98,25 @@ py::array voxelArray(py::object value, const std::string& name, const std::strin
         fail(name, at, "expected an array of numbers, got dtype " + std::string(py::str(dt)));
     }
     // The machine's byte order (an array read from a big-endian file may keep the file's).
-    if (!py::bool_(a.dtype().attr("isnative"))) a = a.attr("astype")(a.dtype().attr("newbyteorder")("="));
+    if (!py::bool_(a.dtype().attr("isnative")))
+        a = a.attr("astype")(a.dtype().attr("newbyteorder")("="));
     dt = a.dtype();
     const char k = dt.kind();
     const py::ssize_t s = dt.itemsize();
-    if (k == 'f') type = s == 4 ? VoxelType::kFloat32 : VoxelType::kFloat64;
-    else if (k == 'u') type = s == 1 ? VoxelType::kUint8 : s == 2 ? VoxelType::kUint16 : VoxelType::kUint32;
-    else type = s == 1 ? VoxelType::kInt8 : s == 2 ? VoxelType::kInt16 : VoxelType::kInt32;
-    // (i, j, k) as nibabel gives them; trailing axes of length 1 (a 4-D image of one volume) dropped.
+    if (k == 'f')
+        type = s == 4 ? VoxelType::kFloat32 : VoxelType::kFloat64;
+    else if (k == 'u')
+        type = s == 1 ? VoxelType::kUint8 : s == 2 ? VoxelType::kUint16 : VoxelType::kUint32;
+    else
+        type = s == 1 ? VoxelType::kInt8 : s == 2 ? VoxelType::kInt16 : VoxelType::kInt32;
+    // (i, j, k) as nibabel gives them; trailing axes of length 1 (a 4-D image of one volume)
+    // dropped.
     std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim());
     while (shape.size() > 3 && shape.back() == 1) shape.pop_back();
     if (shape.size() != 3) {
         std::string text;
-        for (py::ssize_t d = 0; d < a.ndim(); ++d) text += (d ? ", " : "") + std::to_string(a.shape(d));
+        for (py::ssize_t d = 0; d < a.ndim(); ++d)
+            text += (d ? ", " : "") + std::to_string(a.shape(d));
         fail(name, at, "expected a 3-D array (i, j, k), got shape (" + text + ")");
     }
     return a;
@@ -144,8 +152,10 @@ Json toJson(py::handle value, const std::string& name, const std::string& at,
 Json memorySource(py::handle source, const std::string& name, const std::string& at,
                   MemorySources& memory) {
     py::dict given;
-    if (isNibabelImage(source)) given["image"] = source;
-    else given = py::reinterpret_borrow<py::dict>(source);
+    if (isNibabelImage(source))
+        given["image"] = source;
+    else
+        given = py::reinterpret_borrow<py::dict>(source);
     auto array = std::make_shared<VolumeArray>();
     array->name = "array " + std::to_string(++arrayCounter) + " (" + at + ")";
     py::object data;
@@ -154,8 +164,8 @@ Json memorySource(py::handle source, const std::string& name, const std::string&
             fail(name, at, "give either \"image\" (a nibabel image) or \"array\" with \"affine\"");
         py::object image = given["image"];
         if (!isNibabelImage(image))
-            fail(name, at + ".image", "expected a nibabel image (with dataobj and affine), got a " +
-                                          typeName(image));
+            fail(name, at + ".image",
+                 "expected a nibabel image (with dataobj and affine), got a " + typeName(image));
         py::object proxy = image.attr("dataobj");
         // The stored values and the file's scaling, applied as Lobe's NIfTI reader applies them
         // (raw · slope + inter in double): a file's proxy, or an image made from an array.
@@ -203,10 +213,9 @@ Json toJson(py::handle value, const std::string& name, const std::string& at,
     // A source of an object: a nibabel image or a dict with an array in memory.
     const bool isSource = at.size() > 7 && at.compare(at.size() - 7, 7, ".source") == 0 &&
                           at.rfind("objects[", 0) == 0 && at.find('.') == at.size() - 7;
-    if (isSource && (isNibabelImage(value) ||
-                     (py::isinstance<py::dict>(value) &&
-                      (value.cast<py::dict>().contains("array") ||
-                       value.cast<py::dict>().contains("image")))))
+    if (isSource && (isNibabelImage(value) || (py::isinstance<py::dict>(value) &&
+                                               (value.cast<py::dict>().contains("array") ||
+                                                value.cast<py::dict>().contains("image")))))
         return memorySource(value, name, at, memory);
     if (py::isinstance<py::dict>(value)) {
         Json out = Json::object();
@@ -232,19 +241,26 @@ Json toJson(py::handle value, const std::string& name, const std::string& at,
         if (!plain.is(value) && !py::isinstance(plain, np.attr("generic")))
             return toJson(plain, name, at, memory);
     }
-    fail(name, at, "cannot be given as a " + typeName(value) +
-                       " (expected a number, string, bool, list or dict)");
+    fail(name, at,
+         "cannot be given as a " + typeName(value) +
+             " (expected a number, string, bool, list or dict)");
 }
 
 // Scene JSON → Python (the inverse of toJson; arrays given back as they came).
 py::object fromJson(const Json& j, const MemorySources& memory) {
     switch (j.type()) {
-        case Json::value_t::null: return py::none();
-        case Json::value_t::boolean: return py::bool_(j.get<bool>());
-        case Json::value_t::number_integer: return py::int_(j.get<long long>());
-        case Json::value_t::number_unsigned: return py::int_(j.get<unsigned long long>());
-        case Json::value_t::number_float: return py::float_(j.get<double>());
-        case Json::value_t::string: return py::str(j.get<std::string>());
+        case Json::value_t::null:
+            return py::none();
+        case Json::value_t::boolean:
+            return py::bool_(j.get<bool>());
+        case Json::value_t::number_integer:
+            return py::int_(j.get<long long>());
+        case Json::value_t::number_unsigned:
+            return py::int_(j.get<unsigned long long>());
+        case Json::value_t::number_float:
+            return py::float_(j.get<double>());
+        case Json::value_t::string:
+            return py::str(j.get<std::string>());
         case Json::value_t::array: {
             py::list out;
             for (const Json& item : j) out.append(fromJson(item, memory));
@@ -258,10 +274,12 @@ py::object fromJson(const Json& j, const MemorySources& memory) {
                 for (auto item : memory.given.at(j["array"].get<std::string>()))
                     out[item.first] = item.second;
             for (auto it = j.begin(); it != j.end(); ++it)
-                if (!(inMemory && it.key() == "array")) out[py::str(it.key())] = fromJson(*it, memory);
+                if (!(inMemory && it.key() == "array"))
+                    out[py::str(it.key())] = fromJson(*it, memory);
             return std::move(out);
         }
-        default: return py::none();
+        default:
+            return py::none();
     }
 }
 
@@ -430,8 +448,10 @@ AovRequest parseAovs(const std::vector<std::string>& items, bool& alpha) {
         try {
             request = AovRequest::parse(list);
         } catch (const Error&) {
-            throw Error("aov: expected a list of: all, objects, backdrop, depth, normal, id, "
-                        "alpha; got '" + list + "'");
+            throw Error(
+                "aov: expected a list of: all, objects, backdrop, depth, normal, id, "
+                "alpha; got '" +
+                list + "'");
         }
     }
     return request;
@@ -498,7 +518,8 @@ py::dict render(const PyScene& scene, const RenderArgs& args, const std::vector<
         py::array_t<float> a = imageArray(spec.height, spec.width, depth);
         float* dst = a.mutable_data();
         for (size_t p = 0; p < pixels; ++p)
-            for (int c = 0; c < depth; ++c) dst[p * size_t(depth) + size_t(c)] = data[p * stride + first + size_t(c)];
+            for (int c = 0; c < depth; ++c)
+                dst[p * size_t(depth) + size_t(c)] = data[p * stride + first + size_t(c)];
         out[py::str(key)] = a;
     };
     layer("beauty", 0, 3);
@@ -537,7 +558,8 @@ py::dict separation(const PyScene& scene, const RenderArgs& args, double contras
     if (!(contrast > 0.0 && contrast < 1.0))
         throw Error("contrast must be in (0, 1), got " + std::to_string(contrast));
     const SceneSpec spec = renderSpec(scene, args);
-    if (spec.objects.size() < 2) throw Error(spec.path + ": the separation score needs at least two objects");
+    if (spec.objects.size() < 2)
+        throw Error(spec.path + ": the separation score needs at least two objects");
     AovRequest request;
     request.objects = request.backdrop = true;
     Film film(1, 1);
@@ -587,8 +609,10 @@ py::dict candidateBrdf(const BrdfCandidate& c) {
     for (const std::string& kv : c.settings) {
         const auto eq = kv.find('=');
         const Spectrum v = parseBandValue(kv.substr(eq + 1), kv);
-        if (v[0] == v[1] && v[1] == v[2]) brdf[py::str(kv.substr(0, eq))] = v[0];
-        else brdf[py::str(kv.substr(0, eq))] = py::make_tuple(v[0], v[1], v[2]);
+        if (v[0] == v[1] && v[1] == v[2])
+            brdf[py::str(kv.substr(0, eq))] = v[0];
+        else
+            brdf[py::str(kv.substr(0, eq))] = py::make_tuple(v[0], v[1], v[2]);
     }
     return brdf;
 }
@@ -614,7 +638,9 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
             if (spec.objects[i].name == name) {
                 found = true;
                 fixed[i] = int(candidates.size());
-                candidates.push_back({spec.objects[i].brdfModel, {}, spec.objects[i].material.specular,
+                candidates.push_back({spec.objects[i].brdfModel,
+                                      {},
+                                      spec.objects[i].material.specular,
                                       "(" + name + " as in the scene)"});
                 allowed.push_back(false);
             }
@@ -635,7 +661,8 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
     search.top = top;
     std::vector<int> current(spec.objects.size(), -1);
     for (size_t i = 0; i < spec.objects.size(); ++i) {
-        if (fixed[i] >= 0) current[i] = fixed[i];
+        if (fixed[i] >= 0)
+            current[i] = fixed[i];
         else
             for (size_t c = 0; c < candidates.size(); ++c)
                 if (candidates[c].model == spec.objects[i].brdfModel &&
@@ -666,7 +693,8 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
             best[py::str(spec.objects[i].name)] =
                 candidateBrdf(candidates[size_t(result.ranked.front().assignment[i])]);
     out["best"] = best;
-    out["current_score"] = hasCurrent ? py::object(py::float_(assignmentScore(layers, current))) : py::none();
+    out["current_score"] =
+        hasCurrent ? py::object(py::float_(assignmentScore(layers, current))) : py::none();
     out["exhaustive"] = result.exhaustive;
     out["evaluated"] = result.evaluated;
     out["space"] = result.space;
@@ -806,7 +834,8 @@ errors raise lobe.Error naming the key path (objects[2].brdf.alpha_x).)doc")
              py::arg("scene"), py::kw_only(), py::arg("name") = "scene", py::arg("base_dir") = "",
              "A scene from a dict; relative paths resolve against base_dir (default: the current "
              "folder); name is used in error messages.")
-        .def_static("from_file", &sceneFromFile, py::arg("path"), "A scene from a scene file (JSON).")
+        .def_static("from_file", &sceneFromFile, py::arg("path"),
+                    "A scene from a scene file (JSON).")
         .def("to_dict", &sceneDict,
              "The scene as a dict (file paths absolute, in-memory sources as given): edit it and "
              "make a new Scene.")
@@ -815,13 +844,14 @@ errors raise lobe.Error naming the key path (objects[2].brdf.alpha_x).)doc")
         .def_property_readonly("height", [](const PyScene& s) { return s.spec.height; })
         .def_property_readonly("spp", [](const PyScene& s) { return s.spec.samplesPerPixel; })
         .def_property_readonly("seed", [](const PyScene& s) { return s.spec.seed; })
-        .def_property_readonly("objects",
-                               [](const PyScene& s) {
-                                   std::vector<std::string> names;
-                                   for (const ObjectSpec& o : s.spec.objects) names.push_back(o.name);
-                                   return names;
-                               },
-                               "The objects' names, in scene order.")
+        .def_property_readonly(
+            "objects",
+            [](const PyScene& s) {
+                std::vector<std::string> names;
+                for (const ObjectSpec& o : s.spec.objects) names.push_back(o.name);
+                return names;
+            },
+            "The objects' names, in scene order.")
         .def(
             "render",
             [](const PyScene& s, std::optional<int> width, std::optional<int> height,
@@ -832,8 +862,7 @@ errors raise lobe.Error naming the key path (objects[2].brdf.alpha_x).)doc")
             },
             py::kw_only(), py::arg("width") = py::none(), py::arg("height") = py::none(),
             py::arg("spp") = py::none(), py::arg("seed") = py::none(), py::arg("step") = py::none(),
-            py::arg("aov") = py::none(), py::arg("threads") = 0,
-            py::arg("progress") = py::none(),
+            py::arg("aov") = py::none(), py::arg("threads") = 0, py::arg("progress") = py::none(),
             R"doc(
 Render the scene; returns a dict of float32 NumPy arrays: "beauty" (H x W x 3, linear sRGB x
 exposure: the R, G, B `lobe render` writes to its EXR), "alpha" (H x W) when aov holds "alpha" or
@@ -883,8 +912,7 @@ exhaustive, evaluated, space.)doc");
     brdf.def("models", &brdfModelList,
              "Every model: name, title, citation, reciprocal, params (name, default, min, max, "
              "integer, doc).");
-    brdf.def("eval", &brdfEval, py::arg("model"), py::arg("params"), py::arg("wi"),
-             py::arg("wo"),
+    brdf.def("eval", &brdfEval, py::arg("model"), py::arg("params"), py::arg("wi"), py::arg("wo"),
              "f_s(wi, wo) per band (700, 546.1, 435.8 nm) without the cosine, for directions in "
              "the local frame (x tangent, y bitangent, z normal; normalised here) as arrays "
              "(..., 3) broadcast against each other: what `lobe brdf eval` prints. params: "

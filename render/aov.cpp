@@ -20,17 +20,24 @@ AovRequest AovRequest::parse(const std::string& list) {
     bool empty = true;
     while (std::getline(in, item, ',')) {
         empty = false;
-        if (item == "all") r.objects = r.backdrop = r.depth = r.normal = r.topObject = true;
-        else if (item == "objects") r.objects = true;
-        else if (item == "backdrop") r.backdrop = true;
-        else if (item == "depth") r.depth = true;
-        else if (item == "normal") r.normal = true;
-        else if (item == "id") r.topObject = true;
+        if (item == "all")
+            r.objects = r.backdrop = r.depth = r.normal = r.topObject = true;
+        else if (item == "objects")
+            r.objects = true;
+        else if (item == "backdrop")
+            r.backdrop = true;
+        else if (item == "depth")
+            r.depth = true;
+        else if (item == "normal")
+            r.normal = true;
+        else if (item == "id")
+            r.topObject = true;
         else
             throw Error("--aov: unknown pass '" + item +
                         "' (expected all or a comma list of objects, backdrop, depth, normal, id)");
     }
-    if (empty) throw Error("--aov: expected all or a comma list of objects, backdrop, depth, normal, id");
+    if (empty)
+        throw Error("--aov: expected all or a comma list of objects, backdrop, depth, normal, id");
     return r;
 }
 
@@ -70,7 +77,8 @@ AovImage makeAovImage(const AovRequest& request, int width, int height, int obje
         a.lambert.assign(n * size_t(objectCount) * 3, 0.0f);
         a.specular.assign(n * size_t(objectCount) * 3, 0.0f);
     }
-    if (request.objects || !request.models.empty()) a.objectDepth.assign(n * size_t(objectCount), 0.0f);
+    if (request.objects || !request.models.empty())
+        a.objectDepth.assign(n * size_t(objectCount), 0.0f);
     if (request.backdrop || request.topObject || !request.models.empty())
         a.backdrop.assign(n * 3, 0.0f);
     if (request.depth) a.depth.assign(n, 0.0f);
@@ -154,7 +162,8 @@ void AovAccumulator::onEvent(const ShadingEvent& e) {
                               request_.modelScales.empty() ? nullptr : request_.modelScales.data());
         for (size_t k = 0; k < m; ++k)
             for (int b = 0; b < 3; ++b)
-                modelSpecular_[(size_t(e.object) * m + k) * 3 + size_t(b)] += perModel_[k][b] * e.weight;
+                modelSpecular_[(size_t(e.object) * m + k) * 3 + size_t(b)] +=
+                    perModel_[k][b] * e.weight;
     }
 }
 
@@ -173,7 +182,8 @@ void AovAccumulator::finishPixel(int samples, size_t p, AovImage& out) const {
         }
     if (!out.backdrop.empty()) put(&out.backdrop[p * 3], backdrop_, inv);
     if (!out.alpha.empty()) {
-        const double coverage = (coverageSum_ + (inSample_ ? 1.0 - sampleTransmittance_ : 0.0)) * inv;
+        const double coverage =
+            (coverageSum_ + (inSample_ ? 1.0 - sampleTransmittance_ : 0.0)) * inv;
         out.alpha[p] = std::isfinite(coverage) ? float(std::clamp(coverage, 0.0, 1.0)) : 0.0f;
     }
     if (!out.depth.empty()) out.depth[p] = depthCount_ > 0 ? float(depthSum_ / depthCount_) : 0.0f;
@@ -211,7 +221,8 @@ std::vector<std::string> channelSafeNames(const std::vector<std::string>& names)
     std::set<std::string> used = {"backdrop", "depth", "N", "object", "band"};
     for (const std::string& name : names) {
         std::string s;
-        for (char c : name) s += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
+        for (char c : name)
+            s += (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-') ? c : '_';
         if (s.empty()) s = "object";
         std::string unique = s;
         for (int k = 2; used.count(unique); ++k) unique = s + "_" + std::to_string(k);
@@ -232,7 +243,8 @@ void appendAovChannels(const AovRequest& request, const AovImage& a,
         static const char* rgb[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; ++c)
             channels.push_back({layer + "." + rgb[c], [get, c, exposure](size_t p) {
-                                    return imageFloat(bandsToLinearSrgb(get(p))[size_t(c)] * exposure);
+                                    return imageFloat(bandsToLinearSrgb(get(p))[size_t(c)] *
+                                                      exposure);
                                 }});
     };
     if (request.objects) {

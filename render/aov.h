@@ -24,7 +24,7 @@
 namespace lobe {
 
 struct AovRequest {
-    bool objects = false;   // per-object lambert and specular layers
+    bool objects = false;  // per-object lambert and specular layers
     bool backdrop = false;
     bool depth = false;
     bool normal = false;
@@ -59,8 +59,8 @@ struct AovImage {
     // bands: [((pixel · objectCount + object) · modelCount + model) · 3 + band]
     std::vector<float> modelSpecular;
     // per object: its first event's ray distance, mean over the samples that reach it; 0: none
-    std::vector<float> objectDepth;        // [pixel · objectCount + object]
-    std::vector<float> alpha;              // coverage in [0, 1] (AovRequest::alpha)
+    std::vector<float> objectDepth;  // [pixel · objectCount + object]
+    std::vector<float> alpha;        // coverage in [0, 1] (AovRequest::alpha)
 
     size_t pixelCount() const { return size_t(width) * height; }
     Spectrum lambertAt(size_t pixel, int object) const;

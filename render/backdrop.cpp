@@ -14,7 +14,8 @@ std::vector<Spectrum> blurWrapped(const std::vector<Spectrum>& in, int n, double
     const int radius = int(std::ceil(3.0 * sigma));
     std::vector<double> w(2 * radius + 1);
     double sum = 0.0;
-    for (int i = -radius; i <= radius; ++i) sum += w[i + radius] = std::exp(-0.5 * i * i / (sigma * sigma));
+    for (int i = -radius; i <= radius; ++i)
+        sum += w[i + radius] = std::exp(-0.5 * i * i / (sigma * sigma));
     for (double& x : w) x /= sum;
     std::vector<Spectrum> tmp(in.size()), out(in.size());
     auto wrap = [n](int i) { return ((i % n) + n) % n; };
@@ -37,7 +38,11 @@ std::vector<Spectrum> blurWrapped(const std::vector<Spectrum>& in, int n, double
 
 Backdrop::Backdrop(const BackdropSettings& settings, const Vec3& planePoint, const Vec3& forward,
                    const Vec3& right, const Vec3& up, double halfExtent)
-    : settings_(settings), point_(planePoint), normal_(-forward), right_(right), up_(up),
+    : settings_(settings),
+      point_(planePoint),
+      normal_(-forward),
+      right_(right),
+      up_(up),
       halfExtent_(halfExtent) {
     // 8 texels per cell so the blurred colours interpolate smoothly.
     const int perCell = 8;
@@ -83,8 +88,8 @@ Spectrum Backdrop::textureAt(double u, double v) const {
 Spectrum Backdrop::radiance(const Vec3& p, const std::vector<PointLight>& lights) const {
     const Vec3 d = p - point_;
     const double scale = resolution_ / (2.0 * halfExtent_);
-    const Spectrum colour = textureAt((d.dot(right_) + halfExtent_) * scale,
-                                      (halfExtent_ - d.dot(up_)) * scale);
+    const Spectrum colour =
+        textureAt((d.dot(right_) + halfExtent_) * scale, (halfExtent_ - d.dot(up_)) * scale);
     Spectrum light;
     forEachLight(lights, p, [&](const PointLight& l, const Vec3& toLight, double d2) {
         const double cosine = std::max(0.0, normal_.dot(toLight) / std::sqrt(d2));

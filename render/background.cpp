@@ -11,7 +11,9 @@
 namespace lobe {
 namespace {
 
-double srgbDecode(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+double srgbDecode(double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
 
 }  // namespace
 
@@ -44,7 +46,8 @@ Background backgroundFromColour(const std::array<double, 3>& srgb, const std::st
     b.text = buf;
     for (int c = 0; c < 3; ++c) {
         if (!(srgb[size_t(c)] >= 0.0 && srgb[size_t(c)] <= 1.0))
-            throw Error(where + ": background colour " + b.text + " has a component outside [0, 1]");
+            throw Error(where + ": background colour " + b.text +
+                        " has a component outside [0, 1]");
         b.colour[size_t(c)] = srgbDecode(srgb[size_t(c)]);
     }
     return b;

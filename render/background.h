@@ -28,7 +28,7 @@ struct Background {
     enum class Mode { Backdrop, None, Colour };
     Mode mode = Mode::Backdrop;
     std::array<double, 3> colour{0.0, 0.0, 0.0};  // linear sRGB (Mode::Colour)
-    std::string text = "backdrop";                 // as given, for messages
+    std::string text = "backdrop";                // as given, for messages
 
     bool needsAlpha() const { return mode != Mode::Backdrop; }
 };

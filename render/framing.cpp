@@ -1,11 +1,11 @@
 #include "render/framing.h"
 
+#include "core/error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-
-#include "core/error.h"
 
 namespace lobe {
 
@@ -243,10 +243,11 @@ void resolveView(SceneSpec& spec, const std::vector<WorldBox>& objectBoxes) {
     if (!spec.zoom.objects.empty()) {  // a close-up of named objects: their world box
         WorldBox zoomBox;
         for (size_t i = 0; i < spec.objects.size() && i < objectBoxes.size(); ++i)
-            if (std::find(spec.zoom.objects.begin(), spec.zoom.objects.end(), spec.objects[i].name) !=
-                spec.zoom.objects.end())
+            if (std::find(spec.zoom.objects.begin(), spec.zoom.objects.end(),
+                          spec.objects[i].name) != spec.zoom.objects.end())
                 zoomBox.grow(objectBoxes[i]);
-        if (zoomBox.empty()) throw Error(where + "zoom.objects: the objects have no voxels to zoom on");
+        if (zoomBox.empty())
+            throw Error(where + "zoom.objects: the objects have no voxels to zoom on");
         spec.zoom.lo = zoomBox.lo;
         spec.zoom.hi = zoomBox.hi;
     }

@@ -17,13 +17,13 @@
 //   convention of core/light.h's point lights (I · cos θ / d², θ = 0).
 #pragma once
 
-#include <limits>
-#include <string>
-#include <vector>
-
 #include "core/camera.h"
 #include "core/light.h"
 #include "render/scene_description.h"
+
+#include <limits>
+#include <string>
+#include <vector>
 
 namespace lobe {
 

@@ -42,7 +42,8 @@ std::map<std::string, std::vector<std::string>> groupSettings(const std::vector<
 
 Gallery renderGallery(const GalleryOptions& options) {
     if (options.cellSize < 16 || options.cellSize > 4096)
-        throw Error("gallery: --cell must be in [16, 4096], got " + std::to_string(options.cellSize));
+        throw Error("gallery: --cell must be in [16, 4096], got " +
+                    std::to_string(options.cellSize));
     if (options.samplesPerPixel < 1 || options.samplesPerPixel > 4096)
         throw Error("gallery: --spp must be in [1, 4096]");
 
@@ -77,21 +78,24 @@ Gallery renderGallery(const GalleryOptions& options) {
     const PixelSampling sampling{options.samplesPerPixel, options.seed};
     forEachPixel(gallery.film.width(), gallery.film.height(), sampling, scheduler,
                  [&](const PixelSamples& samples) {
-        const int x = samples.x(), y = samples.y();
-        const size_t index = size_t(y / cell) * gallery.columns + x / cell;
-        gallery.film.at(x, y) = samples.mean([&](const Vec2& j, Rng&) {
-            if (index >= materials.size()) return Spectrum(0.0);
-            const double u = (x % cell + j.x) / cell, v = (y % cell + j.y) / cell;
-            const Ray ray = camera.generateRay(u, v);
-            const double t = intersectUnitSphere(ray);
-            if (t < 0.0) return Spectrum(0.02 + 0.03 * (1.0 - v));  // dim gradient backdrop
-            const Vec3 p = ray.at(t);
-            const Vec3 n = normalized(p);
-            // Tangent field of the flux-overlap test: world y projected, world x fallback.
-            const Frame frame = Frame::fromNormalAndAxis(n, Vec3(0, 1, 0), Vec3(1, 0, 0));
-            return directLighting(materials[index], frame, p, -ray.d, lights);
-        });
-    });
+                     const int x = samples.x(), y = samples.y();
+                     const size_t index = size_t(y / cell) * gallery.columns + x / cell;
+                     gallery.film.at(x, y) = samples.mean([&](const Vec2& j, Rng&) {
+                         if (index >= materials.size()) return Spectrum(0.0);
+                         const double u = (x % cell + j.x) / cell, v = (y % cell + j.y) / cell;
+                         const Ray ray = camera.generateRay(u, v);
+                         const double t = intersectUnitSphere(ray);
+                         if (t < 0.0)
+                             return Spectrum(0.02 + 0.03 * (1.0 - v));  // dim gradient backdrop
+                         const Vec3 p = ray.at(t);
+                         const Vec3 n = normalized(p);
+                         // Tangent field of the flux-overlap test: world y projected, world x
+                         // fallback.
+                         const Frame frame =
+                             Frame::fromNormalAndAxis(n, Vec3(0, 1, 0), Vec3(1, 0, 0));
+                         return directLighting(materials[index], frame, p, -ray.d, lights);
+                     });
+                 });
     return gallery;
 }
 

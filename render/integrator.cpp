@@ -111,9 +111,10 @@ const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
     st.shadow.resize(spec.lights.size());
     // Surfaces start their shadow rays a hair off the surface (relative to the coordinates'
     // size: the exact roots are ~1e-10 voxel accurate, Embree's float meshes ~1e-7 relative).
-    const double tMin = volumeSample ? 0.0
-                                     : 1e-5 * (1.0 + std::max(std::abs(p.x),
-                                                              std::max(std::abs(p.y), std::abs(p.z))));
+    const double tMin =
+        volumeSample
+            ? 0.0
+            : 1e-5 * (1.0 + std::max(std::abs(p.x), std::max(std::abs(p.y), std::abs(p.z))));
     const double jitter = rng.uniform();
     if (cache_) {
         const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
@@ -146,7 +147,8 @@ TraceState Integrator::newState() const {
     TraceState st;
     for (const SceneVolume& vo : scene_.volumeObjects()) st.samplers.emplace_back(*vo.volume);
     if (scene_.spec().shadows != "off")
-        for (const SceneVolume& vo : scene_.volumeObjects()) st.shadowSamplers.emplace_back(*vo.volume);
+        for (const SceneVolume& vo : scene_.volumeObjects())
+            st.shadowSamplers.emplace_back(*vo.volume);
     st.pending.resize(scene_.volumeObjects().size());
     st.hasPending.resize(scene_.volumeObjects().size());
     return st;
@@ -172,8 +174,10 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         st.samplers[i].begin(ray, xi - std::floor(xi));
         st.hasPending[i] = 0;
     }
-    if (cost && nv > 0) cost->volumeSeconds += steadySeconds() - tBegin;  // clipping, lattice set-up
-    // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not seen.
+    if (cost && nv > 0)
+        cost->volumeSeconds += steadySeconds() - tBegin;  // clipping, lattice set-up
+    // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not
+    // seen.
     double tBackdrop = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
     if (tBackdrop > ray.tMax) tBackdrop = kInf;
     const Vec3 toViewer = -ray.d;
@@ -184,7 +188,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         for (;;) {
             int best = -1;
             for (size_t i = 0; i < nv; ++i) {
-                if (!st.hasPending[i]) st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i], false);
+                if (!st.hasPending[i])
+                    st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i], false);
                 if (st.hasPending[i] && (best < 0 || st.pending[i].t < st.pending[best].t))
                     best = int(i);
             }
@@ -219,8 +224,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                 point.position = s.position;
                 point.hasFrame = s.hasNormal;
                 if (s.hasNormal)
-                    point.frame = Frame::fromNormalAndAxis(s.normal, vo.tangent.axis,
-                                                           vo.tangent.fallback);
+                    point.frame =
+                        Frame::fromNormalAndAxis(s.normal, vo.tangent.axis, vo.tangent.fallback);
                 point.shadow = shadowsAt(s.position, true, rng, st);
                 if (!cost) {
                     L = lobe::shade(point, toViewer, spec.lights);
@@ -240,8 +245,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                     sink->onEvent({vo.objectIndex, s.t, s.alpha, out.transmittance, weight * scale,
                                    &point, L});
             } else if (sink) {
-                sink->onEvent({vo.objectIndex, s.t, s.alpha, out.transmittance, 0.0, nullptr,
-                               Spectrum(0.0)});
+                sink->onEvent(
+                    {vo.objectIndex, s.t, s.alpha, out.transmittance, 0.0, nullptr, Spectrum(0.0)});
             }
             out.add(s.alpha, L);
             st.hasPending[best] = 0;
@@ -263,7 +268,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
             for (int i = 0; i < iv.count; ++i)
                 for (const ClipBound* b : {&iv.v[i].lo, &iv.v[i].hi})
                     if (b->clipped && b->cap && so.inside(ray.at(b->t)))
-                        caps.push_back({b->t, int(&so - scene_.surfaceObjects().data()), b->normal});
+                        caps.push_back(
+                            {b->t, int(&so - scene_.surfaceObjects().data()), b->normal});
         }
     std::sort(caps.begin(), caps.end(), [](const CapHit& a, const CapHit& b) { return a.t < b.t; });
     size_t nextCap = 0;

@@ -83,11 +83,11 @@ struct ShadingPoint;
 // not shade: those enter with weight 0). Per-object passes (render/aov.h) are built from these.
 struct ShadingEvent {
     static constexpr int kBackdrop = -1;
-    int object = kBackdrop;             // index into SceneSpec::objects, or kBackdrop
-    double t = 0.0;                     // ray parameter
-    double alpha = 0.0;                 // the event's opacity
-    double transmittanceBefore = 1.0;   // T in front of the event
-    double weight = 0.0;                // factor of `radiance` in the pixel
+    int object = kBackdrop;            // index into SceneSpec::objects, or kBackdrop
+    double t = 0.0;                    // ray parameter
+    double alpha = 0.0;                // the event's opacity
+    double transmittanceBefore = 1.0;  // T in front of the event
+    double weight = 0.0;               // factor of `radiance` in the pixel
     const ShadingPoint* point = nullptr;
     Spectrum radiance{0.0};
 };

@@ -1,10 +1,10 @@
 #include "render/render_cost.h"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
-
-#include <pthread.h>
 
 namespace lobe {
 
@@ -48,8 +48,7 @@ void RenderCost::add(const CostCounters& t) {
     // The thread's CPU share of its wall time in the pixel loop, applied to the phases timed
     // inside it (preemption is taken to hit every phase alike). The thread's CPU time beyond its
     // pixels (tile hand-out, waiting for the last tiles) counts as other.
-    const double toCpu =
-        t.pixelSeconds > 0.0 ? std::min(1.0, t.cpuSeconds / t.pixelSeconds) : 1.0;
+    const double toCpu = t.pixelSeconds > 0.0 ? std::min(1.0, t.cpuSeconds / t.pixelSeconds) : 1.0;
     const double surf = t.surfaceSeconds * toCpu;
     const double vol = std::max(0.0, t.volumeSeconds - t.volumeShadingSeconds) * toCpu;
     const double shade = (t.surfaceShadingSeconds + t.volumeShadingSeconds) * toCpu;

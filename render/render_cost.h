@@ -18,9 +18,10 @@
 // and per shaded point, never per BRDF call), and so is each pixel. The thread's CPU clock is read
 // only at its first pixel and after the render (a read costs 2-5 µs on a virtual machine's
 // kvm-clock, against ~50 ns for the steady clock): each thread's phase times are scaled by its
-// CPU/(pixel wall) ratio, so on a loaded machine a thread's preempted time is not counted as work. An object's cost is the
-// shading time of its points; "ns per evaluation" divides it by its BRDF evaluations, so it is
-// the cost of one (point, light) pair of the light loop with that object's model.
+// CPU/(pixel wall) ratio, so on a loaded machine a thread's preempted time is not counted as work.
+// An object's cost is the shading time of its points; "ns per evaluation" divides it by its BRDF
+// evaluations, so it is the cost of one (point, light) pair of the light loop with that object's
+// model.
 #pragma once
 
 #include <ctime>
@@ -29,11 +30,11 @@
 namespace lobe {
 
 struct ObjectCost {
-    long long shadedPoints = 0;     // surface hits and volume samples lit with the object's material
+    long long shadedPoints = 0;  // surface hits and volume samples lit with the object's material
     // Evaluations of f = kd/π + f_s(wi, wo): one per shaded point and light above its surface
     // (render/shading.h); a volume sample without a usable normal is lit without its BRDF (none).
     long long brdfEvaluations = 0;
-    double shadingSeconds = 0.0;    // CPU s (RenderCost) or thread wall s (CostCounters)
+    double shadingSeconds = 0.0;  // CPU s (RenderCost) or thread wall s (CostCounters)
 
     ObjectCost& operator+=(const ObjectCost& o);
 };
@@ -43,12 +44,12 @@ struct ObjectCost {
 struct CostCounters {
     bool enabled = false;
     double surfaceSeconds = 0.0;
-    double volumeSeconds = 0.0;        // volume segments, the shading of their samples included
-    double volumeShadingSeconds = 0.0; // of which shading
+    double volumeSeconds = 0.0;         // volume segments, the shading of their samples included
+    double volumeShadingSeconds = 0.0;  // of which shading
     double surfaceShadingSeconds = 0.0;
-    double pixelSeconds = 0.0;         // the pixel loop, steady clock
-    double cpuSeconds = 0.0;           // this thread's CPU time from its first pixel to stop()
-    std::vector<ObjectCost> objects;   // by SceneSpec::objects index
+    double pixelSeconds = 0.0;        // the pixel loop, steady clock
+    double cpuSeconds = 0.0;          // this thread's CPU time from its first pixel to stop()
+    std::vector<ObjectCost> objects;  // by SceneSpec::objects index
 
     void enable(int objectCount);
     // start() on the thread, at its first pixel; stop() from any thread once the render is done.

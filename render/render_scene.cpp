@@ -13,9 +13,7 @@ namespace lobe {
 
 namespace {
 
-PixelSampling samplingOf(const SceneSpec& spec) {
-    return {spec.samplesPerPixel, spec.seed};
-}
+PixelSampling samplingOf(const SceneSpec& spec) { return {spec.samplesPerPixel, spec.seed}; }
 
 // Pixel (x, y): the mean of the integrator's radiance over the pixel's samples; `aov`, when
 // given, collects the same samples' passes.
@@ -49,8 +47,8 @@ Spectrum RenderScene::renderPixel(int x, int y) const {
     return pixelValue(scene_, integrator_, PixelSamples(sampling, strata, x, y), state, stats);
 }
 
-Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
-                         const AovRequest* aov, AovImage* aovs) const {
+Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut, const AovRequest* aov,
+                         AovImage* aovs) const {
     const auto start = std::chrono::steady_clock::now();
     const SceneSpec& spec = scene_.spec();
     // The film (3 doubles a pixel), its display copy and the EXR's floats (6 + 3 floats), and
@@ -62,9 +60,9 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut,
         bytesPerPixel += 4.0 * (8 + double(spec.objects.size()) * (6 + 10));
     // A band: rows [rowBegin, rowEnd) alone, film row 0 = image row `firstRow`.
     const int firstRow = options.bandOnly ? std::clamp(options.rowBegin, 0, spec.height) : 0;
-    const int lastRow =
-        options.bandOnly && options.rowEnd >= 0 ? std::clamp(options.rowEnd, firstRow, spec.height)
-                                                : spec.height;
+    const int lastRow = options.bandOnly && options.rowEnd >= 0
+                            ? std::clamp(options.rowEnd, firstRow, spec.height)
+                            : spec.height;
     const int filmRows = options.bandOnly ? lastRow - firstRow : spec.height;
     checkFits(double(spec.width) * filmRows * bytesPerPixel,
               spec.path + ": a " + std::to_string(spec.width) + " x " + std::to_string(filmRows) +

@@ -50,9 +50,9 @@ bool isLabelSource(const VolumeSourceSpec& s) { return !s.labels.empty(); }
 std::string sourceKey(const VolumeSourceSpec& s) {
     if (isLabelSource(s)) return "labels|" + s.path;
     char numbers[256];
-    std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g", int(s.divideByMax),
-                  s.divideByPercentile, s.divideBy,
-                  s.background, s.blurFwhmMm, s.spacing[0], s.spacing[1], s.spacing[2]);
+    std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g",
+                  int(s.divideByMax), s.divideByPercentile, s.divideBy, s.background, s.blurFwhmMm,
+                  s.spacing[0], s.spacing[1], s.spacing[2]);
     std::string key = (s.array ? "array:" + s.array->name : s.path) + numbers + "|" + s.type + "|" +
                       s.endian + "|" + s.series;
     for (const std::string& p : s.morePaths) key += "|" + p;
@@ -123,8 +123,10 @@ std::vector<std::string> VolumeCache::preload(const std::vector<const SceneSpec*
     });
     std::lock_guard<std::mutex> lock(mutex_);
     for (size_t i = 0; i < missing.size(); ++i) {
-        if (loaded[i]) volumes_[missingKeys[i]] = loaded[i];
-        else errors_[missingKeys[i]] = failed[i];
+        if (loaded[i])
+            volumes_[missingKeys[i]] = loaded[i];
+        else
+            errors_[missingKeys[i]] = failed[i];
     }
     std::vector<std::string> errors(specs.size());
     for (size_t s = 0; s < specs.size(); ++s)
@@ -185,24 +187,27 @@ std::string contentHashDifference(const std::string& there, const std::string& h
         std::istringstream in(t);
         for (std::string line; std::getline(in, line);) {
             const size_t space = line.rfind(' ');
-            if (space != std::string::npos) out.emplace_back(line.substr(0, space), line.substr(space + 1));
+            if (space != std::string::npos)
+                out.emplace_back(line.substr(0, space), line.substr(space + 1));
         }
         return out;
     };
     const auto a = lines(there), b = lines(here);
     for (size_t k = 0; k < std::min(a.size(), b.size()); ++k)
         if (a[k].second != b[k].second)
-            return b[k].first + " (content hash " + a[k].second + " there, " + b[k].second + " here)";
+            return b[k].first + " (content hash " + a[k].second + " there, " + b[k].second +
+                   " here)";
     if (a.size() == b.size()) return "";  // the same data under other paths
-    return "the volumes: " + std::to_string(a.size()) + " there, " + std::to_string(b.size()) + " here";
+    return "the volumes: " + std::to_string(a.size()) + " there, " + std::to_string(b.size()) +
+           " here";
 }
 
 namespace {
 
 // A shallow copy of the volume's grid (same voxels) whose transform is followed by the object's
 // transform, so the grid maps index → scene world directly.
-openvdb::FloatGrid::Ptr placeInWorld(const openvdb::FloatGrid::Ptr& source, const ObjectTransform& t,
-                                     const std::string& context) {
+openvdb::FloatGrid::Ptr placeInWorld(const openvdb::FloatGrid::Ptr& source,
+                                     const ObjectTransform& t, const std::string& context) {
     const openvdb::math::AffineMap::Ptr affine = source->transform().baseMap()->getAffineMap();
     if (!affine) throw Error(context + ": the volume's transform is not affine");
     // OpenVDB multiplies row vectors (world = index · M): the object map in that form.
@@ -220,7 +225,8 @@ openvdb::FloatGrid::Ptr placeInWorld(const openvdb::FloatGrid::Ptr& source, cons
         // on 1 mm voxels. The scene's own check is relative (core/math.h, nearlySingular).
         char det[32];
         std::snprintf(det, sizeof det, "%.3g", total.det());
-        throw Error(context + ": the transform makes a voxel " + det + " world units³, smaller "
+        throw Error(context + ": the transform makes a voxel " + det +
+                    " world units³, smaller "
                     "than OpenVDB's maps allow (3e-15): give the scene in larger units (e.g. µm "
                     "instead of mm: scale the transform, camera and lights alike)");
     }
@@ -266,10 +272,11 @@ void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
 }
 
 // An object's world box (framing.h): its active voxels', or for a label object its labels' voxels'.
-void growByObjectBox(const ObjectSpec& object, const openvdb::FloatGrid& placed, Vec3& lo, Vec3& hi) {
+void growByObjectBox(const ObjectSpec& object, const openvdb::FloatGrid& placed, Vec3& lo,
+                     Vec3& hi) {
     if (object.source.labels.empty()) return growByGridBox(placed, lo, hi);
-    growByIndexBox(placed.transform(), loadLabelMap(object.source.path)->boxOf(object.source.labels),
-                   lo, hi);
+    growByIndexBox(placed.transform(),
+                   loadLabelMap(object.source.path)->boxOf(object.source.labels), lo, hi);
 }
 
 }  // namespace
@@ -294,7 +301,8 @@ std::shared_ptr<const SurfaceGeometry> levelSetOf(const openvdb::FloatGrid::Ptr&
                                                   const ObjectSpec& object) {
     if (grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
         if (object.iso != 0.0)
-            throw Error("the source is a level set, whose surface is its zero crossing: set \"iso\": 0");
+            throw Error(
+                "the source is a level set, whose surface is its zero crossing: set \"iso\": 0");
         return std::make_shared<LevelSetSurface>(grid, object.name);
     }
     LevelSetOptions options;
@@ -323,14 +331,16 @@ TransferFunction resolvedTransfer(const ObjectSpec& object, const Volume& volume
     try {
         return TransferFunction(std::move(points), object.transferName);
     } catch (const Error& e) {
-        throw Error(std::string(e.what()) + " (percentiles of the volume's values: " + resolved + ")");
+        throw Error(std::string(e.what()) + " (percentiles of the volume's values: " + resolved +
+                    ")");
     }
 }
 
 std::string transferError(const SceneSpec& spec, VolumeCache& cache) {
     try {
         for (const ObjectSpec& object : spec.objects)
-            if (!object.transferPercentiles.empty()) resolvedTransfer(object, *cache.get(object.source));
+            if (!object.transferPercentiles.empty())
+                resolvedTransfer(object, *cache.get(object.source));
     } catch (const Error& e) {
         return e.what();
     }
@@ -392,7 +402,8 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
         const ObjectSpec& object = spec_.objects[i];
         if (object.kind != ObjectSpec::Kind::IsoSurface) return;
         try {
-            const openvdb::FloatGrid::Ptr grid = objectGrid(object, *volumes.get(object.source), contextOf(i));
+            const openvdb::FloatGrid::Ptr grid =
+                objectGrid(object, *volumes.get(object.source), contextOf(i));
             grids[i] = grid;
             if (object.method == "mesh") {
                 geometries[i] = std::make_shared<IsoMeshSurface>(*grid, object.iso, object.name);
@@ -431,7 +442,8 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             clipBox(clip, objectBoxes[i].lo, objectBoxes[i].hi);
             if (!surfaces_) surfaces_ = std::make_unique<SurfaceScene>();
             const int id = surfaces_->add(geometries[i]);
-            if (id != int(surfaceObjects_.size())) throw Error("internal: surface IDs out of order");
+            if (id != int(surfaceObjects_.size()))
+                throw Error("internal: surface IDs out of order");
             SceneSurface so;
             so.spec = &object;
             so.objectIndex = int(i);
@@ -457,11 +469,10 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             growByObjectBox(object, *grid, lo, hi);
             clipBox(clip, objectBoxes[i].lo, objectBoxes[i].hi);
             DvrSettings settings;
-            settings.reconstruction = object.reconstruction == "bspline"
-                                          ? Reconstruction::kCubicBSpline
-                                      : object.reconstruction == "nearest"
-                                          ? Reconstruction::kNearest
-                                          : Reconstruction::kTrilinear;
+            settings.reconstruction =
+                object.reconstruction == "bspline"   ? Reconstruction::kCubicBSpline
+                : object.reconstruction == "nearest" ? Reconstruction::kNearest
+                                                     : Reconstruction::kTrilinear;
             settings.gradient = object.gradient == "bspline" ? GradientMethod::kBSplineDerivative
                                                              : GradientMethod::kCentralDifferences;
             settings.stepVoxels = spec_.volumeStepVoxels;

@@ -22,24 +22,24 @@ namespace lobe {
 
 // Where an object's voxels come from and how their values are mapped before use.
 struct VolumeSourceSpec {
-    std::string path;                            // resolved (relative to the scene file's folder)
-    std::vector<std::string> morePaths;          // "path": [a, b, …]: the DICOM slices after a
-    std::string series;                          // DICOM: the SeriesInstanceUID to read
-    std::optional<std::array<int, 3>> dims;      // raw files only
-    std::string type;                            // raw files only: uint8, int16, float32, ...
-    std::string endian = "little";               // raw files only
+    std::string path;                              // resolved (relative to the scene file's folder)
+    std::vector<std::string> morePaths;            // "path": [a, b, …]: the DICOM slices after a
+    std::string series;                            // DICOM: the SeriesInstanceUID to read
+    std::optional<std::array<int, 3>> dims;        // raw files only
+    std::string type;                              // raw files only: uint8, int16, float32, ...
+    std::string endian = "little";                 // raw files only
     std::array<double, 3> spacing{1.0, 1.0, 1.0};  // raw files only
-    double divideBy = 1.0;                       // value ↦ value / divideBy (CThead: 3272)
-    bool divideByMax = false;                    // "divide_by": "max": by the data's maximum
-    double divideByPercentile = 0.0;             // "divide_by": "p99": by that percentile (0: none)
-    double background = 0.0;                     // file units: voxels ≤ this are inactive
-    double blurFwhmMm = 0.0;                     // Gaussian blur in world millimetres; 0: none
+    double divideBy = 1.0;                         // value ↦ value / divideBy (CThead: 3272)
+    bool divideByMax = false;                      // "divide_by": "max": by the data's maximum
+    double divideByPercentile = 0.0;  // "divide_by": "p99": by that percentile (0: none)
+    double background = 0.0;          // file units: voxels ≤ this are inactive
+    double blurFwhmMm = 0.0;          // Gaussian blur in world millimetres; 0: none
     // "labels": the source is a label map and the object the region whose label is in this set
     // (volume/labels.h); empty: the voxel values themselves. Checked against the map at parse
     // time (every label present, names from the table).
     std::vector<int> labels;
-    double labelSmooth = 0.6;   // "label_smooth": σ of the indicator's anti-aliasing, in voxels
-    std::string labelTable;     // where the names came from ("" none), for messages
+    double labelSmooth = 0.6;  // "label_smooth": σ of the indicator's anti-aliasing, in voxels
+    std::string labelTable;    // where the names came from ("" none), for messages
     // In place of a file: an array in memory ("array": NAME, resolved by parseScene from the
     // arrays it is given — the Python module's; render/scene_file.h). path is empty then.
     std::shared_ptr<const VolumeArray> array;
@@ -72,7 +72,7 @@ struct ObjectSpec {
     ObjectTransform transform;
     Material material;
     std::string brdfModel;
-    Vec3 tangentAxis{0, 0, 1};   // anisotropy direction: this object axis projected on the surface
+    Vec3 tangentAxis{0, 0, 1};  // anisotropy direction: this object axis projected on the surface
     // What colours the specular highlight: the light's colour (true: the dichromatic reflection
     // model — the interface of a dielectric reflects all wavelengths alike, the colour of the
     // object or transfer function is its body colour and tints the Lambert term only; Shafer
@@ -89,7 +89,7 @@ struct ObjectSpec {
     double levelSetHalfWidth = 3.0;  // levelset: band half width in voxels
     int levelSetSmooth = 0;          // levelset: iterations of mean-curvature flow
     double opacity = 1.0;
-    Spectrum color{1.0};           // surface colour multiplying the reflected light
+    Spectrum color{1.0};  // surface colour multiplying the reflected light
     // Volumes
     TransferFunction transfer;  // from explicit points or one of the paper's presets
     // Transfer-function values given as percentiles of the volume's values ("value": "p95", a
@@ -102,8 +102,8 @@ struct ObjectSpec {
         std::string key;                  // "scene.json: objects[0].transfer_function.boundary"
     };
     std::vector<TfPercentile> transferPercentiles;
-    std::vector<TfPoint> transferPoints;  // only with transferPercentiles
-    std::string transferName;             // "scene.json: objects[0].transfer_function"
+    std::vector<TfPoint> transferPoints;       // only with transferPercentiles
+    std::string transferName;                  // "scene.json: objects[0].transfer_function"
     std::string reconstruction = "trilinear";  // trilinear | bspline | nearest
     std::string gradient = "central";          // central | bspline
     // An object expanded from a "kind": "segmentation" entry: that entry's key path ("" else).
@@ -120,9 +120,9 @@ struct BackdropSpec {
     uint64_t seed = 7;
     double ambient = 0.2;
     double diffuse = 0.3;
-    int cells = 24;       // random colour cells across the backdrop before blurring
-    double blur = 1.5;    // Gaussian blur, in cells
-    bool grey = false;    // cells of random lightness but no hue (no tint through glass)
+    int cells = 24;     // random colour cells across the backdrop before blurring
+    double blur = 1.5;  // Gaussian blur, in cells
+    bool grey = false;  // cells of random lightness but no hue (no tint through glass)
 };
 
 // A camera fitted to the objects at scene assembly (render/framing.h): from a named view or an
@@ -130,13 +130,13 @@ struct BackdropSpec {
 // fills 1/margin of the frame.
 struct CameraFitSpec {
     bool enabled = false;
-    std::string view;               // anterior, posterior, left, right, superior, inferior; "": angles
-    double azimuthDeg = 0.0;        // from +y (anterior) towards +x (right)
-    double elevationDeg = 0.0;      // towards +z (superior)
-    bool upGiven = false;           // camera.up given: it wins over the view's own up
+    std::string view;           // anterior, posterior, left, right, superior, inferior; "": angles
+    double azimuthDeg = 0.0;    // from +y (anterior) towards +x (right)
+    double elevationDeg = 0.0;  // towards +z (superior)
+    bool upGiven = false;       // camera.up given: it wins over the view's own up
     std::vector<std::string> objects;  // names of the objects to fit; empty: all
     double margin = 1.1;
-    std::string method = "box";     // box (its 8 corners projected) | sphere (around the box)
+    std::string method = "box";  // box (its 8 corners projected) | sphere (around the box)
 };
 
 // A close-up of a world point or box: the crop window of the (fitted or given) view around it.
@@ -144,7 +144,7 @@ struct ZoomSpec {
     enum class Kind { None, Point, Box };
     Kind kind = Kind::None;
     Vec3 center{0.0};
-    double size = 0.0;   // Point: world units across the crop's shorter side at the point's depth
+    double size = 0.0;  // Point: world units across the crop's shorter side at the point's depth
     Vec3 lo{0.0}, hi{0.0};  // Box
     double margin = 1.1;    // Box: the box's projection fills 1/margin of the crop
     // Box from objects: the world box of these objects (a label object's is its labels' own),
@@ -154,15 +154,15 @@ struct ZoomSpec {
 
 // Lights placed relative to the camera at scene assembly (render/framing.h).
 struct LightRigSpec {
-    std::string rig;              // "": the scene's own lights; headlight | paper
-    Spectrum irradiance{1.0};     // each light's irradiance at the target, on a plane facing it
-    double angleDeg = 0.0;        // paper: off-axis angle of the lights seen from the target; 0:
-                                  // towards the corners of the view at the target's depth
+    std::string rig;               // "": the scene's own lights; headlight | paper
+    Spectrum irradiance{1.0};      // each light's irradiance at the target, on a plane facing it
+    double angleDeg = 0.0;         // paper: off-axis angle of the lights seen from the target; 0:
+                                   // towards the corners of the view at the target's depth
     double behind = 50.0 / 560.0;  // paper: distance behind the camera / camera-target distance
 };
 
 struct SceneSpec {
-    std::string path;  // the scene file
+    std::string path;   // the scene file
     std::string title;  // caption for contact sheets (default: the file's name)
     std::string group;  // contact sheets collect the scenes of one group
     int width = 1024;

@@ -11,10 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -99,7 +99,8 @@ public:
     }
     std::vector<double> numbers(const Json& v, const std::string& where, size_t count) const {
         if (!v.is_array() || v.size() != count)
-            fail(where, "expected an array of " + std::to_string(count) + " numbers, got " + v.dump());
+            fail(where,
+                 "expected an array of " + std::to_string(count) + " numbers, got " + v.dump());
         std::vector<double> out;
         for (const Json& x : v) {
             if (!x.is_number()) fail(where, "expected numbers, got " + v.dump());
@@ -125,7 +126,8 @@ public:
         }
         for (int b = 0; b < 3; ++b)
             if (!(s[b] >= lo && s[b] <= hi))
-                fail(at(key), "value " + v.dump() + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
+                fail(at(key),
+                     "value " + v.dump() + " is outside [" + fmt(lo) + ", " + fmt(hi) + "]");
         return s;
     }
     Reader child(const std::string& key) { return Reader(raw(key), at(key), file_); }
@@ -135,8 +137,9 @@ public:
         for (auto it = j_.begin(); it != j_.end(); ++it)
             if (!used_.count(it.key())) {
                 const std::string near = nearestName(it.key(), asked_);
-                fail(at(it.key()), "unknown key" + (near.empty() ? std::string()
-                                                                 : " (did you mean '" + near + "'?)"));
+                fail(at(it.key()),
+                     "unknown key" +
+                         (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
             }
     }
     const std::string& file() const { return file_; }
@@ -180,15 +183,18 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentat
         named->name = r.requiredString("array");
         for (const char* key : {"path", "series", "dims", "type", "endian", "spacing"})
             if (r.has(key))
-                r.fail(r.at(key), "not with \"array\" (an array in memory has its own size, type "
-                                  "and affine)");
+                r.fail(r.at(key),
+                       "not with \"array\" (an array in memory has its own size, type "
+                       "and affine)");
         s.array = named;
     } else if (r.has("path") && r.raw("path").is_array()) {
-    // "path": one file or folder; or an array of files, the slices of one DICOM series.
+        // "path": one file or folder; or an array of files, the slices of one DICOM series.
         const Json& list = r.raw("path");
-        if (list.empty()) r.fail(r.at("path"), "an empty list (expected the files of a DICOM series)");
+        if (list.empty())
+            r.fail(r.at("path"), "an empty list (expected the files of a DICOM series)");
         for (const Json& item : list) {
-            if (!item.is_string()) r.fail(r.at("path"), "expected a list of file names, got " + item.dump());
+            if (!item.is_string())
+                r.fail(r.at("path"), "expected a list of file names, got " + item.dump());
             const std::string p = resolvePath(item.get<std::string>(), baseDir);
             const std::string why = unreachable(p);
             if (!why.empty()) r.fail(r.at("path"), "file '" + p + "'" + why);
@@ -213,8 +219,8 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentat
         }
         s.dims = dims;
     }
-    s.type = r.string("type", "",
-                      {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"});
+    s.type = r.string(
+        "type", "", {"uint8", "int8", "uint16", "int16", "uint32", "int32", "float32", "float64"});
     s.endian = r.string("endian", "little", {"little", "big"});
     if (r.has("spacing")) {
         const auto v = r.numbers(r.raw("spacing"), r.at("spacing"), 3);
@@ -224,7 +230,8 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentat
         }
     }
     if (r.has("divide_by") && r.raw("divide_by").is_string()) {
-        // "max", or a percentile "pNN" as `lobe info` prints them (LoadOptions::normalizePercentile).
+        // "max", or a percentile "pNN" as `lobe info` prints them
+        // (LoadOptions::normalizePercentile).
         const std::string text = r.string("divide_by", "max");
         const double p = parsePercentileText(text);
         if (text == "max")
@@ -232,8 +239,9 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentat
         else if (p > 0.0)
             s.divideByPercentile = p;
         else
-            r.fail(r.at("divide_by"), "'" + text + "' is not a number, \"max\" or a percentile "
-                                      "\"pNN\" with 0 < NN <= 100 (e.g. \"p99\")");
+            r.fail(r.at("divide_by"), "'" + text +
+                                          "' is not a number, \"max\" or a percentile "
+                                          "\"pNN\" with 0 < NN <= 100 (e.g. \"p99\")");
     } else
         s.divideBy = r.number("divide_by", 1.0, 1e-12, 1e12);
     s.blurFwhmMm = r.number("blur_fwhm_mm", 0.0, 0.0, 100.0);
@@ -248,8 +256,9 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentat
         for (const char* key : {"divide_by", "blur_fwhm_mm", "background", "dims", "type", "endian",
                                 "spacing", "series"})
             if (r.has(key))
-                r.fail(r.at(key), "not with labels: a label map is read as its file stores it (a "
-                                  "header format: .nii, .nii.gz, .mgh, .mgz, .nhdr, .vdb)");
+                r.fail(r.at(key),
+                       "not with labels: a label map is read as its file stores it (a "
+                       "header format: .nii, .nii.gz, .mgh, .mgz, .nhdr, .vdb)");
         if (!s.morePaths.empty()) r.fail(r.at("path"), "a label map is one file");
         s.labelSmooth = r.number("label_smooth", kLabelSmoothDefault, 0.0, 4.0);
         LabelSource labels;
@@ -292,8 +301,9 @@ ObjectTransform readTransform(Reader r) {
         t.translation = {tr.x, tr.y, tr.z};
     }
     if (nearlySingular(t.linear))
-        r.fail(r.path(), "the transform is singular, or so nearly (its columns almost parallel) "
-                         "that it cannot be inverted");
+        r.fail(r.path(),
+               "the transform is singular, or so nearly (its columns almost parallel) "
+               "that it cannot be inverted");
     r.finish();
     return t;
 }
@@ -314,7 +324,8 @@ void readBrdf(Reader r, ObjectSpec& object) {
         setBrdfParam(*model, values, spec.name, v, r.file() + ": " + r.path());
     }
     object.material.specular = model->create(values);
-    if (r.has("albedo")) {  // the lobe scaled to this albedo at normal incidence (materials/albedo.h)
+    if (r.has(
+            "albedo")) {  // the lobe scaled to this albedo at normal incidence (materials/albedo.h)
         const double target = r.number("albedo", 0.1, 1e-6, 1.0);
         try {
             object.material.specularScale = albedoScale(object.material.specular, target);
@@ -334,8 +345,9 @@ double readTfValue(Reader& r, const std::string& key, double def, double& percen
         const std::string text = r.raw(key).get<std::string>();
         percent = parsePercentileText(text);
         if (!(percent > 0.0))
-            r.fail(r.at(key), "'" + text + "' is not a number or a percentile of the volume's "
-                              "values \"pNN\" with 0 < NN <= 100 (e.g. \"p95\", \"p99.5\")");
+            r.fail(r.at(key), "'" + text +
+                                  "' is not a number or a percentile of the volume's "
+                                  "values \"pNN\" with 0 < NN <= 100 (e.g. \"p95\", \"p99.5\")");
         return 0.0;
     }
     return r.number(key, def, -1e12, 1e12);
@@ -372,12 +384,14 @@ void readTransfer(Reader r, ObjectSpec& o) {
         const bool shell = preset == "cortex_shell";
         const double width = r.number("width", shell ? 0.14 : 0.1, 1e-9, 1e12);
         const double opacity = shell ? r.number("opacity", 0.2, 0.001, 0.999999) : 0.0;
-        const Spectrum color = r.bands(
-            "color", shell ? Spectrum(0.85, 0.72, 0.62) : linearSrgbToBands(0.8, 0.7, 0.65), 0.0, 1e6);
+        const Spectrum color =
+            r.bands("color", shell ? Spectrum(0.85, 0.72, 0.62) : linearSrgbToBands(0.8, 0.7, 0.65),
+                    0.0, 1e6);
         r.finish();
         // With a percentile the preset is built around 0: every point is an offset from it.
-        const TransferFunction tf = shell ? TransferFunction::cortexShell(boundary, width, opacity, color)
-                                          : TransferFunction::cortex(boundary, width, color);
+        const TransferFunction tf =
+            shell ? TransferFunction::cortexShell(boundary, width, opacity, color)
+                  : TransferFunction::cortex(boundary, width, color);
         if (percent > 0.0) {
             o.transferPoints = tf.points();
             ObjectSpec::TfPercentile p{percent, {}, r.file() + ": " + r.at("boundary")};
@@ -423,9 +437,10 @@ std::vector<ClipShape> readClip(Reader& r, const std::string& key) {
     const Json& list = r.raw(key);
     const std::string where = r.at(key);
     if (!list.is_array() || list.size() > size_t(kMaxClipShapes))
-        r.fail(where, "expected an array of at most " + std::to_string(kMaxClipShapes) +
-                          " clip shapes ({\"plane\": {\"point\": [x, y, z], \"normal\": [nx, ny, nz]}} "
-                          "or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}})");
+        r.fail(where,
+               "expected an array of at most " + std::to_string(kMaxClipShapes) +
+                   " clip shapes ({\"plane\": {\"point\": [x, y, z], \"normal\": [nx, ny, nz]}} "
+                   "or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}})");
     std::vector<ClipShape> shapes;
     for (size_t i = 0; i < list.size(); ++i) {
         Reader c(list[i], where + "[" + std::to_string(i) + "]", r.file());
@@ -438,7 +453,8 @@ std::vector<ClipShape> readClip(Reader& r, const std::string& key) {
             s.point = p.vec3("point", Vec3(0.0));
             s.normal = p.vec3("normal", Vec3(0.0));
             const double len = s.normal.length();
-            if (!(len > 0.0) || !std::isfinite(len)) p.fail(p.at("normal"), "must be a non-zero vector");
+            if (!(len > 0.0) || !std::isfinite(len))
+                p.fail(p.at("normal"), "must be a non-zero vector");
             s.normal /= len;
             p.finish();
         } else {
@@ -499,8 +515,9 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     if (o.kind == ObjectSpec::Kind::IsoSurface && !o.source.labels.empty()) {
         // The surface of a label set is its anti-aliased indicator's 0.5 level (volume/labels.h).
         if (r.has("iso"))
-            r.fail(r.at("iso"), "not with source.labels: the surface of a label set is the 0.5 "
-                                "level of its smoothed indicator (set source.label_smooth)");
+            r.fail(r.at("iso"),
+                   "not with source.labels: the surface of a label set is the 0.5 "
+                   "level of its smoothed indicator (set source.label_smooth)");
     } else if (o.kind == ObjectSpec::Kind::IsoSurface) {
         if (!r.has("iso")) r.fail(r.at("iso"), "missing (the iso value)");
     }
@@ -511,7 +528,8 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
     } else {
         if (!r.has("transfer_function")) r.fail(r.at("transfer_function"), "missing");
         readTransfer(r.child("transfer_function"), o);
-        o.reconstruction = r.string("reconstruction", "trilinear", {"trilinear", "bspline", "nearest"});
+        o.reconstruction =
+            r.string("reconstruction", "trilinear", {"trilinear", "bspline", "nearest"});
         o.gradient = r.string("gradient", "central", {"central", "bspline"});
     }
     if (r.has("clip")) o.clip = readClip(r, "clip");
@@ -521,9 +539,11 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
         // change fills (MaskSpec::labels); until then it is an unknown key.
         Reader m = r.child("mask");
         o.mask.enabled = true;
-        if (!m.has("source")) m.fail(m.at("source"), "missing (the mask's volume, as an object's source)");
+        if (!m.has("source"))
+            m.fail(m.at("source"), "missing (the mask's volume, as an object's source)");
         o.mask.source = readSource(m.child("source"), baseDir);
-        if (!m.has("iso")) m.fail(m.at("iso"), "missing (the object exists where the mask's value is above it)");
+        if (!m.has("iso"))
+            m.fail(m.at("iso"), "missing (the object exists where the mask's value is above it)");
         o.mask.iso = m.number("iso", 0.5, -1e12, 1e12);
         o.mask.invert = m.boolean("invert", false);
         m.finish();
@@ -567,7 +587,8 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
         if (!o.is_object()) r.fail(r.at("overrides"), "expected an object {\"label name\": {…}}");
         for (auto it = o.begin(); it != o.end(); ++it) {
             const std::string& key = it.key();
-            const bool number = !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+            const bool number =
+                !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
             int id = -1;
             try {
                 id = labelIdsOf(number ? Json(std::stoll(key)) : Json(key), named, false).front();
@@ -577,10 +598,11 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
                 r.fail(r.at("overrides") + "." + key, "not a label number");
             }
             if (std::find(ids.begin(), ids.end(), id) == ids.end())
-                r.fail(r.at("overrides") + "." + key, "label " + std::to_string(id) +
-                                                          " is not one of this segmentation's labels");
+                r.fail(r.at("overrides") + "." + key,
+                       "label " + std::to_string(id) + " is not one of this segmentation's labels");
             if (overrides.count(id))
-                r.fail(r.at("overrides") + "." + key, "label " + std::to_string(id) + " is overridden twice");
+                r.fail(r.at("overrides") + "." + key,
+                       "label " + std::to_string(id) + " is overridden twice");
             overrides[id] = key;
         }
     }
@@ -591,16 +613,19 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
         if (!colourGiven) o.color = labelColour(named, id, Spectrum(1.0));
         const auto ov = overrides.find(id);
         if (ov != overrides.end()) {
-            Reader v(r.raw("overrides").at(ov->second), r.at("overrides") + "." + ov->second, r.file());
+            Reader v(r.raw("overrides").at(ov->second), r.at("overrides") + "." + ov->second,
+                     r.file());
             if (v.has("brdf")) readBrdf(v.child("brdf"), o);
             o.material.kd = v.bands("kd", o.material.kd, 0.0, 1.0);
             o.opacity = v.number("opacity", o.opacity, 0.0, 1.0);
             o.color = v.bands("color", o.color, 0.0, 1e6);
-            o.highlightTakesLight = v.string("highlight", o.highlightTakesLight ? "light" : "colour",
-                                             {"light", "colour"}) == "light";
+            o.highlightTakesLight =
+                v.string("highlight", o.highlightTakesLight ? "light" : "colour",
+                         {"light", "colour"}) == "light";
             if (v.has("tangent_axis")) {
                 o.tangentAxis = v.vec3("tangent_axis", o.tangentAxis);
-                if (!(o.tangentAxis.length() > 0)) v.fail(v.at("tangent_axis"), "must not be the zero vector");
+                if (!(o.tangentAxis.length() > 0))
+                    v.fail(v.at("tangent_axis"), "must not be the zero vector");
                 o.tangentAxis.normalize();
             }
             v.finish();
@@ -610,14 +635,13 @@ void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSp
     r.finish();
 }
 
-
 // "fit": {"view": NAME} or {"azimuth_deg": a, "elevation_deg": e}, with optional "objects",
 // "margin" and "method" (render/framing.h). Position and target are then computed, not given.
 void readFit(Reader& cam, CameraFitSpec& fit) {
     Reader f = cam.child("fit");
     fit.enabled = true;
-    fit.view = f.string("view", "",
-                        {"anterior", "posterior", "left", "right", "superior", "inferior"});
+    fit.view =
+        f.string("view", "", {"anterior", "posterior", "left", "right", "superior", "inferior"});
     if (!fit.view.empty() && (f.has("azimuth_deg") || f.has("elevation_deg")))
         f.fail(f.path(), "give either view or azimuth_deg/elevation_deg, not both");
     fit.azimuthDeg = f.number("azimuth_deg", 0.0, -360.0, 360.0);
@@ -630,7 +654,8 @@ void readFit(Reader& cam, CameraFitSpec& fit) {
             if (!o.is_array() || o.empty())
                 f.fail(f.at("objects"), "expected an object's name or a non-empty array of names");
             for (const Json& n : o) {
-                if (!n.is_string()) f.fail(f.at("objects"), "expected names (strings), got " + n.dump());
+                if (!n.is_string())
+                    f.fail(f.at("objects"), "expected names (strings), got " + n.dump());
                 fit.objects.push_back(n.get<std::string>());
             }
         }
@@ -641,8 +666,9 @@ void readFit(Reader& cam, CameraFitSpec& fit) {
     fit.upGiven = cam.has("up");
     for (const char* key : {"position", "target"})
         if (cam.has(key))
-            cam.fail(cam.at(key), "a fitted camera (camera.fit) computes position and target: give "
-                                  "either fit or position/target");
+            cam.fail(cam.at(key),
+                     "a fitted camera (camera.fit) computes position and target: give "
+                     "either fit or position/target");
 }
 
 // A crop with unequal normalised extents would show a region of another aspect than the image
@@ -671,10 +697,12 @@ void readZoom(Reader z, ZoomSpec& zoom) {
     if (z.has("objects")) {  // the world box of these objects (e.g. a label of an atlas)
         zoom.kind = ZoomSpec::Kind::Box;
         const Json& o = z.raw("objects");
-        if (o.is_string()) zoom.objects.push_back(o.get<std::string>());
+        if (o.is_string())
+            zoom.objects.push_back(o.get<std::string>());
         else if (o.is_array() && !o.empty())
             for (const Json& n : o) {
-                if (!n.is_string()) z.fail(z.at("objects"), "expected names (strings), got " + n.dump());
+                if (!n.is_string())
+                    z.fail(z.at("objects"), "expected names (strings), got " + n.dump());
                 zoom.objects.push_back(n.get<std::string>());
             }
         else
@@ -686,7 +714,8 @@ void readZoom(Reader z, ZoomSpec& zoom) {
     if (z.has("point")) {
         zoom.kind = ZoomSpec::Kind::Point;
         zoom.center = z.vec3("point", Vec3(0));
-        if (!z.has("size")) z.fail(z.at("size"), "missing (the width of the close-up in world units)");
+        if (!z.has("size"))
+            z.fail(z.at("size"), "missing (the width of the close-up in world units)");
         zoom.size = z.number("size", 1.0, 1e-9, 1e12);
     } else {
         zoom.kind = ZoomSpec::Kind::Box;
@@ -706,7 +735,8 @@ void readZoom(Reader z, ZoomSpec& zoom) {
 // "lights": {"rig": "headlight" | "paper", "irradiance": E, "angle_deg": a, "behind": b}
 // (render/framing.h, lightRig).
 void readLightRig(Reader l, LightRigSpec& rig) {
-    if (!l.has("rig")) l.fail(l.at("rig"), "missing (headlight or paper; or give an array of lights)");
+    if (!l.has("rig"))
+        l.fail(l.at("rig"), "missing (headlight or paper; or give an array of lights)");
     rig.rig = l.string("rig", "", {"headlight", "paper"});
     rig.irradiance = l.bands("irradiance", Spectrum(1.0), 0.0, 1e12);
     if (rig.rig == "paper") {
@@ -730,9 +760,9 @@ void readLightRig(Reader l, LightRigSpec& rig) {
 class SceneTextCheck final : public nlohmann::json_sax<Json> {
 public:
     static constexpr int kMaxDepth = 64;
-    std::string problem;        // a scene-format problem, "key: what" or "what"
-    std::string syntax;         // a JSON error (nlohmann's text)
-    size_t syntaxByte = 0;      // where, for a syntax error (0: not a syntax error)
+    std::string problem;    // a scene-format problem, "key: what" or "what"
+    std::string syntax;     // a JSON error (nlohmann's text)
+    size_t syntaxByte = 0;  // where, for a syntax error (0: not a syntax error)
 
     bool null() override { return element(); }
     bool boolean(bool) override { return element(); }
@@ -751,9 +781,11 @@ public:
         if (stack_.size() == 1) topKey_ = k;
         return true;
     }
-    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
+    bool parse_error(std::size_t, const std::string&,
+                     const nlohmann::detail::exception& e) override {
         syntax = e.what();
-        if (const auto* p = dynamic_cast<const Json::parse_error*>(&e)) syntaxByte = std::max<size_t>(1, p->byte);
+        if (const auto* p = dynamic_cast<const Json::parse_error*>(&e))
+            syntaxByte = std::max<size_t>(1, p->byte);
         return false;
     }
 
@@ -838,8 +870,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     // The group names a file (contact-sheet-GROUP.png): found here, not after the batch rendered.
     for (const char c : scene.group)
         if (c == '/' || c == '\\' || (unsigned char)c < 32)
-            r.fail("group", "'" + scene.group + "' names a file (contact-sheet-GROUP.png): no '/', "
-                            "'\\' or control characters");
+            r.fail("group", "'" + scene.group +
+                                "' names a file (contact-sheet-GROUP.png): no '/', "
+                                "'\\' or control characters");
     if (r.has("image")) {
         Reader img = r.child("image");
         scene.width = img.integer("width", scene.width, 1, 16384);
@@ -862,8 +895,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
             const auto c = cam.numbers(cam.raw("crop"), cam.at("crop"), 4);
             scene.crop = CropWindow{c[0], c[1], c[2], c[3]};
             if (!(c[0] >= 0 && c[2] <= 1 && c[1] >= 0 && c[3] <= 1 && c[0] < c[2] && c[1] < c[3]))
-                cam.fail(cam.at("crop"), "expected [x0, y0, x1, y1] with 0 <= x0 < x1 <= 1 and "
-                                         "0 <= y0 < y1 <= 1");
+                cam.fail(cam.at("crop"),
+                         "expected [x0, y0, x1, y1] with 0 <= x0 < x1 <= 1 and "
+                         "0 <= y0 < y1 <= 1");
             checkCropAspect(cam, scene.crop);
         }
         if (cam.has("zoom")) {
@@ -981,8 +1015,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         if (!array) continue;
         const std::string at = "objects[" + std::to_string(i) + "].source.array";
         if (!arrays)
-            r.fail(at, "arrays in memory are given through the Python module (lobe.Scene, "
-                       "docs/python.md); a scene file names its data in \"path\"");
+            r.fail(at,
+                   "arrays in memory are given through the Python module (lobe.Scene, "
+                   "docs/python.md); a scene file names its data in \"path\"");
         const auto it = arrays->find(array->name);
         if (it == arrays->end() || !it->second) r.fail(at, "no array named '" + array->name + "'");
         array = it->second;
@@ -1014,7 +1049,8 @@ SceneSpec loadSceneFile(const std::string& path) {
     for (const char* ext : {".nii", ".nii.gz", ".nhdr", ".nrrd", ".vdb", ".raw", ".raw.gz", ".dcm"})
         if (lower.size() >= std::strlen(ext) &&
             lower.compare(lower.size() - std::strlen(ext), std::string::npos, ext) == 0)
-            throw Error("'" + path + "' is a volume, not a scene file: a scene (JSON) names its "
+            throw Error("'" + path +
+                        "' is a volume, not a scene file: a scene (JSON) names its "
                         "volumes, camera and lights (docs/scene-format.md; "
                         "assets/scenes/paper/rendering-01.json is an example); `lobe info` "
                         "describes a volume");
@@ -1028,7 +1064,8 @@ SceneSpec loadSceneFile(const std::string& path) {
         std::ifstream probe(path, std::ios::binary);
         char magic[4] = {};
         if (probe && probe.seekg(128) && probe.read(magic, 4) && std::memcmp(magic, "DICM", 4) == 0)
-            throw Error("'" + path + "' is a DICOM file, not a scene file: a scene (JSON) names "
+            throw Error("'" + path +
+                        "' is a DICOM file, not a scene file: a scene (JSON) names "
                         "its volumes in objects[].source.path (a DICOM folder or files there; "
                         "docs/scene-format.md); `lobe info` describes a DICOM series");
     }

@@ -22,7 +22,9 @@ std::string joinInts(const std::vector<int>& v) {
 }
 
 // IEC 61966-2-1 (sRGB) decoding of an encoded value in [0, 1].
-double srgbDecode(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+double srgbDecode(double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
 
 // A scene table's colour: "#rrggbb" or [r, g, b] in [0, 1], sRGB-encoded → bytes.
 std::array<int, 3> sceneColour(const Json& c, const std::string& where) {
@@ -31,14 +33,17 @@ std::array<int, 3> sceneColour(const Json& c, const std::string& where) {
         const std::string t = c.get<std::string>();
         bool hex = t.size() == 7 && t[0] == '#';
         for (size_t i = 1; hex && i < 7; ++i) hex = std::isxdigit(static_cast<unsigned char>(t[i]));
-        if (!hex) throw Error(where + ": expected \"#rrggbb\" or [r, g, b] in [0, 1], got " + c.dump());
-        for (int k = 0; k < 3; ++k) rgb[size_t(k)] = std::stoi(t.substr(1 + 2 * size_t(k), 2), nullptr, 16);
+        if (!hex)
+            throw Error(where + ": expected \"#rrggbb\" or [r, g, b] in [0, 1], got " + c.dump());
+        for (int k = 0; k < 3; ++k)
+            rgb[size_t(k)] = std::stoi(t.substr(1 + 2 * size_t(k), 2), nullptr, 16);
         return rgb;
     }
     if (!c.is_array() || c.size() != 3)
         throw Error(where + ": expected \"#rrggbb\" or [r, g, b] in [0, 1], got " + c.dump());
     for (int k = 0; k < 3; ++k) {
-        if (!c[size_t(k)].is_number() || !(c[size_t(k)].get<double>() >= 0.0 && c[size_t(k)].get<double>() <= 1.0))
+        if (!c[size_t(k)].is_number() ||
+            !(c[size_t(k)].get<double>() >= 0.0 && c[size_t(k)].get<double>() <= 1.0))
             throw Error(where + ": expected \"#rrggbb\" or [r, g, b] in [0, 1], got " + c.dump());
         rgb[size_t(k)] = int(std::lround(c[size_t(k)].get<double>() * 255.0));
     }
@@ -91,19 +96,22 @@ LabelSource openLabelSource(const std::string& mapPath, const Json* tableValue,
         if (tableValue->is_string()) {
             const std::filesystem::path p(tableValue->get<std::string>());
             const std::string path =
-                p.is_absolute() ? p.string() : (std::filesystem::path(baseDir) / p).lexically_normal().string();
+                p.is_absolute() ? p.string()
+                                : (std::filesystem::path(baseDir) / p).lexically_normal().string();
             s.table = readLabelTable(path);
         } else if (tableValue->is_object()) {
             s.table = sceneTable(*tableValue);
         } else {
-            throw Error("label_table: expected a table file or an object {\"37\": \"name\", …}, got " +
-                        tableValue->dump());
+            throw Error(
+                "label_table: expected a table file or an object {\"37\": \"name\", …}, got " +
+                tableValue->dump());
         }
     } else {
         s.table = tableBeside(mapPath);
     }
     if (!s.table.empty()) {
-        // A table of another atlas names the wrong structures: every label of the map must be in it.
+        // A table of another atlas names the wrong structures: every label of the map must be in
+        // it.
         std::vector<int> missing;
         for (const auto& [id, info] : s.map->labels)
             if (!s.table.find(id)) missing.push_back(id);
@@ -126,8 +134,9 @@ std::vector<int> labelIdsOf(const Json& value, const LabelSource& s, bool allowA
     const std::string mapPath = s.map->path;
     if (value.is_string() && value.get<std::string>() == "all") {
         if (!allowAll)
-            throw Error("\"all\" is for \"kind\": \"segmentation\" (one object per label); an "
-                        "object's own labels are a list");
+            throw Error(
+                "\"all\" is for \"kind\": \"segmentation\" (one object per label); an "
+                "object's own labels are a list");
         std::vector<int> ids;
         for (const auto& [id, info] : s.map->labels) ids.push_back(id);
         if (ids.empty()) throw Error(mapPath + " holds no label (every voxel is 0)");
@@ -151,13 +160,15 @@ std::vector<int> labelIdsOf(const Json& value, const LabelSource& s, bool allowA
         } else if (v.is_string()) {
             const std::string name = v.get<std::string>();
             if (s.table.empty())
-                throw Error("'" + name + "' is a name, but " + mapPath + " has no label table: "
+                throw Error("'" + name + "' is a name, but " + mapPath +
+                            " has no label table: "
                             "give source.label_table (FreeSurfer, ITK-SNAP or MRIcron table, or "
                             "{\"37\": \"name\"}) or use label numbers");
             id = s.table.idOf(name);
             if (id < 0) {
                 std::string near;
-                for (const std::string& n : s.table.nearestNames(name)) near += (near.empty() ? "" : ", ") + n;
+                for (const std::string& n : s.table.nearestNames(name))
+                    near += (near.empty() ? "" : ", ") + n;
                 throw Error("'" + name + "' is in no label table (" + s.table.source +
                             "; nearest names: " + near + ")");
             }

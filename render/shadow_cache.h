@@ -38,7 +38,8 @@ public:
         std::atomic<float>* values = values_[size_t(light)].get();
         double sum = 0.0;
         for (int c = 0; c < 8; ++c) {
-            const int ix = i0[0] + (c & 1), iy = i0[1] + ((c >> 1) & 1), iz = i0[2] + ((c >> 2) & 1);
+            const int ix = i0[0] + (c & 1), iy = i0[1] + ((c >> 1) & 1),
+                      iz = i0[2] + ((c >> 2) & 1);
             const double w = ((c & 1) ? u[0] : 1 - u[0]) * ((c & 2) ? u[1] : 1 - u[1]) *
                              ((c & 4) ? u[2] : 1 - u[2]);
             if (w == 0.0) continue;
@@ -58,7 +59,8 @@ public:
     // box is the same from p as from that point.
     bool entry(const Vec3& p, const Vec3& to, Vec3& q) const {
         const Vec3 hi = lo_ + Vec3(n_[0] - 1, n_[1] - 1, n_[2] - 1) * spacing_;
-        if (p.x >= lo_.x && p.y >= lo_.y && p.z >= lo_.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z) {
+        if (p.x >= lo_.x && p.y >= lo_.y && p.z >= lo_.z && p.x <= hi.x && p.y <= hi.y &&
+            p.z <= hi.z) {
             q = p;
             return true;
         }

@@ -11,7 +11,7 @@ packages=(
   libgdcm-dev python3-pydicom python3-nibabel mricron-data
   fonts-dejavu-core libfreetype-dev
   openmpi-bin libopenmpi-dev
-  clang libclang-rt-14-dev bc
+  clang libclang-rt-14-dev bc clang-format
   # the VTK comparison (bench/peers/run.sh), run with /usr/bin/python3
   python3-vtk9 xvfb xauth python3-numpy python3-scipy python3-nibabel python3-openimageio
   # the Python module (python/, built against /usr/bin/python3) and its walk-through (docs/python.md)

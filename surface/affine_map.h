@@ -56,10 +56,10 @@ struct Mat3 {
 };
 
 struct AffineMap {
-    Mat3 a;         // index → world linear part (columns: world images of the index axes)
-    Mat3 aInv;      // world → index linear part
-    Mat3 aInvT;     // (A⁻¹)ᵀ: index-space gradient → world-space gradient
-    Vec3 t{0.0};    // world position of index (0,0,0)
+    Mat3 a;       // index → world linear part (columns: world images of the index axes)
+    Mat3 aInv;    // world → index linear part
+    Mat3 aInvT;   // (A⁻¹)ᵀ: index-space gradient → world-space gradient
+    Vec3 t{0.0};  // world position of index (0,0,0)
 
     Vec3 toWorld(const Vec3& u) const { return a * u + t; }
     Vec3 toIndex(const Vec3& x) const { return aInv * (x - t); }

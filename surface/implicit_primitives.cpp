@@ -24,8 +24,9 @@ Rows rotY(double deg) {
 Rows multiply(const Rows& a, const Rows& b) {
     Rows out;
     for (int i = 0; i < 3; ++i)
-        out[i] = Vec3(a[i].dot(Vec3(b[0].x, b[1].x, b[2].x)), a[i].dot(Vec3(b[0].y, b[1].y, b[2].y)),
-                      a[i].dot(Vec3(b[0].z, b[1].z, b[2].z)));
+        out[i] =
+            Vec3(a[i].dot(Vec3(b[0].x, b[1].x, b[2].x)), a[i].dot(Vec3(b[0].y, b[1].y, b[2].y)),
+                 a[i].dot(Vec3(b[0].z, b[1].z, b[2].z)));
     return out;
 }
 // The world→object map is the transpose of object→world; its rows are the columns of R.

@@ -71,7 +71,7 @@ private:
     std::array<double, 3> param_{1.0, 0.0, 0.0};  // sphere r; torus R, r; superquadric level
     std::array<Vec3, 3> rows_{Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};  // world→object rows
     double boundRadius_ = 1.0;  // sphere (centred at the origin) enclosing the surface, with margin
-    double hessianBound_ = 2.0; // M ≥ |dᵀ H d| for unit d inside the bounding sphere
+    double hessianBound_ = 2.0;  // M ≥ |dᵀ H d| for unit d inside the bounding sphere
 };
 
 }  // namespace lobe

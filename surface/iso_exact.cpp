@@ -52,8 +52,7 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
     : iso_(iso), map_(AffineMap::fromTransform(grid.transform(), name)) {
     if (!std::isfinite(iso)) throw Error(name + ": iso value must be finite");
     const openvdb::FloatTree& tree = grid.tree();
-    if (!std::isfinite(tree.background()))
-        throw Error(name + ": background value is not finite");
+    if (!std::isfinite(tree.background())) throw Error(name + ": background value is not finite");
     openvdb::CoordBBox stored;
     if (!storedIndexBox(tree, stored)) return;  // empty grid: constant background, no surface
 
@@ -71,7 +70,8 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
     // methods have no such table.
     checkFits(double(nx) * ny * nz * 2,
               name + ": the exact iso-surface's table of " + std::to_string(int64_t(nx) * 8) +
-                  " x " + std::to_string(int64_t(ny) * 8) + " x " + std::to_string(int64_t(nz) * 8) +
+                  " x " + std::to_string(int64_t(ny) * 8) + " x " +
+                  std::to_string(int64_t(nz) * 8) +
                   " cells (use \"method\": \"mesh\" or \"levelset\" for a grid this large)");
     const std::size_t nBricks = std::size_t(nx) * ny * nz;
     candidateBricks_ = nBricks;
@@ -104,17 +104,18 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
     std::vector<char> nonFinite(nBricks, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nBricks, 16),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-        auto acc = grid.getConstUnsafeAccessor();
-        float v[kBrickValues];
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            float lo, hi;
-            const bool finite = readBrick(acc, brickOriginOf(b), v, lo, hi);
-            nonFinite[b] = !finite;
-            // A brick whose 9³ values all equal iso is a solid region at the iso value, not a
-            // surface: it is skipped (the only case where a root could go unreported).
-            keep[b] = finite && lo <= iso && hi >= iso && lo < hi;
-        }
-    });
+                          auto acc = grid.getConstUnsafeAccessor();
+                          float v[kBrickValues];
+                          for (std::size_t b = range.begin(); b != range.end(); ++b) {
+                              float lo, hi;
+                              const bool finite = readBrick(acc, brickOriginOf(b), v, lo, hi);
+                              nonFinite[b] = !finite;
+                              // A brick whose 9³ values all equal iso is a solid region at the iso
+                              // value, not a surface: it is skipped (the only case where a root
+                              // could go unreported).
+                              keep[b] = finite && lo <= iso && hi >= iso && lo < hi;
+                          }
+                      });
     if (std::find(nonFinite.begin(), nonFinite.end(), 1) != nonFinite.end())
         throw Error(name + ": the grid holds non-finite (NaN or Inf) values");
 
@@ -129,15 +130,15 @@ IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
     bounds_.resize(kept);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept, 16),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-        auto acc = grid.getConstUnsafeAccessor();
-        for (std::size_t k = range.begin(); k != range.end(); ++k) {
-            float* v = &values_[k * kBrickValues];
-            float lo, hi;
-            readBrick(acc, origins_[k], v, lo, hi);
-            cells_[k] = BrickCells::classify(v, iso_);
-            bounds_[k] = brickWorldBounds(map_, origins_[k], cells_[k]);
-        }
-    });
+                          auto acc = grid.getConstUnsafeAccessor();
+                          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                              float* v = &values_[k * kBrickValues];
+                              float lo, hi;
+                              readBrick(acc, origins_[k], v, lo, hi);
+                              cells_[k] = BrickCells::classify(v, iso_);
+                              bounds_[k] = brickWorldBounds(map_, origins_[k], cells_[k]);
+                          }
+                      });
 }
 
 std::size_t IsoExactSurface::memoryBytes() const {
@@ -187,9 +188,8 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
 }
 
 SurfaceHit IsoExactSurface::shade(const Ray& ray, double t, unsigned primId) const {
-    return user_geometry::shadeByGradient(ray, t, primId, [&](const Vec3& x) {
-        return worldGradient(primId, map_.toIndex(x));
-    });
+    return user_geometry::shadeByGradient(
+        ray, t, primId, [&](const Vec3& x) { return worldGradient(primId, map_.toIndex(x)); });
 }
 
 RTCGeometry IsoExactSurface::createGeometry(RTCDevice device) const {

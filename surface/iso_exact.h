@@ -40,8 +40,8 @@
 #include "surface/surface_scene.h"
 
 #include <openvdb/Grid.h>
-#include <openvdb/tree/Tree.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tree/Tree.h>
 
 #include <array>
 #include <cstdint>
@@ -52,8 +52,8 @@ namespace lobe {
 
 class IsoExactSurface : public SurfaceGeometry {
 public:
-    static constexpr int kBrickCells = BrickCells::kCells;     // cells per brick side
-    static constexpr int kBrickPoints = BrickCells::kPoints;   // lattice points per brick side
+    static constexpr int kBrickCells = BrickCells::kCells;    // cells per brick side
+    static constexpr int kBrickPoints = BrickCells::kPoints;  // lattice points per brick side
     static constexpr int kBrickValues = BrickCells::kValues;
 
     // Throws lobe::Error (naming `name`) for a non-affine transform, a non-finite iso value or
@@ -90,10 +90,10 @@ private:
 
     double iso_ = 0.0;
     AffineMap map_;
-    std::vector<openvdb::Coord> origins_;      // first cell (= first lattice point) of each brick
-    std::vector<float> values_;                // kBrickValues per brick, x fastest
-    std::vector<BrickCells> cells_;            // cell classes per brick (brick_walk.h)
-    std::vector<std::array<float, 6>> bounds_; // world AABB per brick (min xyz, max xyz)
+    std::vector<openvdb::Coord> origins_;       // first cell (= first lattice point) of each brick
+    std::vector<float> values_;                 // kBrickValues per brick, x fastest
+    std::vector<BrickCells> cells_;             // cell classes per brick (brick_walk.h)
+    std::vector<std::array<float, 6>> bounds_;  // world AABB per brick (min xyz, max xyz)
     std::size_t candidateBricks_ = 0;
 };
 

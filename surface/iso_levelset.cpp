@@ -79,10 +79,11 @@ std::shared_ptr<LevelSetSurface> LevelSetSurface::fromDensity(const openvdb::Flo
     {
         openvdb::tree::LeafManager<openvdb::FloatTree> leaves(phi->tree());
         const openvdb::math::Transform& from = phi->transform();
-        leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+        leaves.foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
             const auto acc = density.getConstUnsafeAccessor();
             for (auto v = leaf.beginValueOn(); v; ++v) {
-                const openvdb::Vec3d u = density.transform().worldToIndex(from.indexToWorld(v.getCoord()));
+                const openvdb::Vec3d u =
+                    density.transform().worldToIndex(from.indexToWorld(v.getCoord()));
                 if (openvdb::tools::BoxSampler::sample(acc, u) > iso) v.setValue(-*v);
             }
         });
@@ -109,8 +110,8 @@ LevelSetSurface::LevelSetSurface(openvdb::FloatGrid::ConstPtr levelSet, const st
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
         const openvdb::Coord o = leaf->origin();
         for (int c = 0; c < 8; ++c)
-            candidates.push_back(o.offsetBy((c & 1) ? -kCells : 0, (c & 2) ? -kCells : 0,
-                                            (c & 4) ? -kCells : 0));
+            candidates.push_back(
+                o.offsetBy((c & 1) ? -kCells : 0, (c & 2) ? -kCells : 0, (c & 4) ? -kCells : 0));
     }
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
@@ -119,22 +120,23 @@ LevelSetSurface::LevelSetSurface(openvdb::FloatGrid::ConstPtr levelSet, const st
     std::vector<char> nonFinite(candidates.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-        Accessor acc(tree);
-        float values[BrickCells::kValues];
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            float* v = values;
-            bool finite = true;
-            for (int k = 0; k < kPoints; ++k)
-                for (int j = 0; j < kPoints; ++j)
-                    for (int i = 0; i < kPoints; ++i) {
-                        const float x = -acc.getValue(candidates[b].offsetBy(i, j, k));
-                        finite = finite && std::isfinite(x);
-                        *v++ = x;
-                    }
-            nonFinite[b] = !finite;
-            if (finite) classes[b] = BrickCells::classify(values, 0.0);
-        }
-    });
+                          Accessor acc(tree);
+                          float values[BrickCells::kValues];
+                          for (std::size_t b = range.begin(); b != range.end(); ++b) {
+                              float* v = values;
+                              bool finite = true;
+                              for (int k = 0; k < kPoints; ++k)
+                                  for (int j = 0; j < kPoints; ++j)
+                                      for (int i = 0; i < kPoints; ++i) {
+                                          const float x =
+                                              -acc.getValue(candidates[b].offsetBy(i, j, k));
+                                          finite = finite && std::isfinite(x);
+                                          *v++ = x;
+                                      }
+                              nonFinite[b] = !finite;
+                              if (finite) classes[b] = BrickCells::classify(values, 0.0);
+                          }
+                      });
     if (std::find(nonFinite.begin(), nonFinite.end(), 1) != nonFinite.end())
         throw Error(name + ": the level set holds non-finite (NaN or Inf) values");
     for (std::size_t b = 0; b < candidates.size(); ++b) {
@@ -170,9 +172,8 @@ Vec3 LevelSetSurface::worldGradient(unsigned block, const Vec3& u) const {
 }
 
 SurfaceHit LevelSetSurface::shade(const Ray& ray, double t, unsigned primId) const {
-    return user_geometry::shadeByGradient(ray, t, primId, [&](const Vec3& x) {
-        return worldGradient(primId, map_.toIndex(x));
-    });
+    return user_geometry::shadeByGradient(
+        ray, t, primId, [&](const Vec3& x) { return worldGradient(primId, map_.toIndex(x)); });
 }
 
 RTCGeometry LevelSetSurface::createGeometry(RTCDevice device) const {

@@ -41,8 +41,8 @@
 namespace lobe {
 
 struct LevelSetOptions {
-    double voxelSize = 0.0;   // world units; 0: rebuild at the source grid's own transform
-    double halfWidth = 3.0;   // voxels on each side of the surface (OpenVDB's default)
+    double voxelSize = 0.0;  // world units; 0: rebuild at the source grid's own transform
+    double halfWidth = 3.0;  // voxels on each side of the surface (OpenVDB's default)
     // Iterations of mean-curvature flow (OpenVDB's LevelSetFilter::meanCurvature, which keeps
     // the band a distance field): smooths the slice terraces of an anisotropic scan while thin
     // structures keep their place (docs/performance.md, "The skull without terraces"). The
@@ -61,7 +61,8 @@ public:
                                                         const std::string& name = "grid");
 
     // A level set as it is (φ < 0 inside); its zero crossing is the surface.
-    explicit LevelSetSurface(openvdb::FloatGrid::ConstPtr levelSet, const std::string& name = "grid");
+    explicit LevelSetSurface(openvdb::FloatGrid::ConstPtr levelSet,
+                             const std::string& name = "grid");
 
     RTCGeometry createGeometry(RTCDevice device) const override;
     SurfaceHit shade(const Ray& ray, double t, unsigned primId) const override;
@@ -82,9 +83,9 @@ public:
 private:
     openvdb::FloatGrid::ConstPtr phi_;
     AffineMap map_;
-    std::vector<openvdb::Coord> origins_;      // first cell of each block holding a sign change
-    std::vector<BrickCells> cells_;            // cell classes of −φ against 0 (brick_walk.h)
-    std::vector<std::array<float, 6>> bounds_; // world AABB per block
+    std::vector<openvdb::Coord> origins_;       // first cell of each block holding a sign change
+    std::vector<BrickCells> cells_;             // cell classes of −φ against 0 (brick_walk.h)
+    std::vector<std::array<float, 6>> bounds_;  // world AABB per block
 };
 
 }  // namespace lobe

@@ -15,8 +15,7 @@ namespace lobe {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-IsoMeshSurface::IsoMeshSurface(const openvdb::FloatGrid& grid, double iso,
-                               const std::string& name)
+IsoMeshSurface::IsoMeshSurface(const openvdb::FloatGrid& grid, double iso, const std::string& name)
     : iso_(iso), map_(AffineMap::fromTransform(grid.transform(), name)), grid_(grid.copy()) {
     if (!std::isfinite(iso)) throw Error(name + ": iso value must be finite");
     std::vector<openvdb::Vec3s> points;
@@ -47,8 +46,10 @@ IsoMeshSurface::IsoMeshSurface(const openvdb::FloatGrid& grid, double iso,
         std::array<float, 6> box{};
         for (int a = 0; a < 3; ++a) {
             const double pad = 1e-5 * (std::abs(mn[a]) + std::abs(mx[a]) + 1.0);
-            box[a] = std::nextafter(static_cast<float>(mn[a] - pad), -std::numeric_limits<float>::infinity());
-            box[a + 3] = std::nextafter(static_cast<float>(mx[a] + pad), std::numeric_limits<float>::infinity());
+            box[a] = std::nextafter(static_cast<float>(mn[a] - pad),
+                                    -std::numeric_limits<float>::infinity());
+            box[a + 3] = std::nextafter(static_cast<float>(mx[a] + pad),
+                                        std::numeric_limits<float>::infinity());
         }
         bounds_.push_back(box);
     }

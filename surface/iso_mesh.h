@@ -3,10 +3,11 @@
 // last vertex) in world space (volumeToMesh applies the grid transform), as an Embree user
 // geometry over the quads' bounds whose callback runs a watertight ray/triangle test in double
 // (Woop et al. 2013; iso_mesh.cpp): no ray slips between two triangles, through an edge or a
-// vertex, which Embree's native quads allowed. The shading normal is not the facet normal: it is the analytic gradient of the
-// grid's trilinear interpolant at the hit point (trilinear_cell.h), carried to world space by A⁻ᵀ
-// and oriented along −∇f like the exact method (surface_scene.h, "Normal convention"), so both
-// methods shade with the same field and differ only in where they place the surface.
+// vertex, which Embree's native quads allowed. The shading normal is not the facet normal: it is
+// the analytic gradient of the grid's trilinear interpolant at the hit point (trilinear_cell.h),
+// carried to world space by A⁻ᵀ and oriented along −∇f like the exact method (surface_scene.h,
+// "Normal convention"), so both methods shade with the same field and differ only in where they
+// place the surface.
 #pragma once
 
 #include "surface/affine_map.h"
@@ -44,8 +45,8 @@ public:
     std::size_t quadCount() const { return quads_.size() / 4; }  // triangles included
     std::size_t triangleCount() const { return triangles_; }
     std::size_t memoryBytes() const;
-    const std::vector<float>& vertices() const { return vertices_; }         // xyz, world
-    const std::vector<std::uint32_t>& quads() const { return quads_; }       // 4 indices each
+    const std::vector<float>& vertices() const { return vertices_; }    // xyz, world
+    const std::vector<std::uint32_t>& quads() const { return quads_; }  // 4 indices each
 
 private:
     double iso_ = 0.0;

@@ -35,8 +35,10 @@ void clipFilter(const RTCFilterFunctionNArguments* args) {
     const unsigned geomId = RTCHitN_geomID(args->hit, args->N, 0);
     const float t = RTCRayN_tfar(args->ray, args->N, 0);
     const ClipIntervals* clip = ctx->clipOf(geomId);
-    if (clip && !clip->contains(t)) args->valid[0] = 0;
-    else if (ctx->masks && ctx->ray && !ctx->maskKeeps(geomId, ctx->ray->at(t))) args->valid[0] = 0;
+    if (clip && !clip->contains(t))
+        args->valid[0] = 0;
+    else if (ctx->masks && ctx->ray && !ctx->maskKeeps(geomId, ctx->ray->at(t)))
+        args->valid[0] = 0;
 }
 
 }  // namespace

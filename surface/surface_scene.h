@@ -33,10 +33,10 @@ namespace lobe {
 
 struct SurfaceHit {
     double t = 0.0;
-    Vec3 position{0.0};      // world space, ray.at(t)
-    Vec3 normal{0, 0, 1};    // unit, world space, see "Normal convention"
-    int objectId = -1;       // index returned by SurfaceScene::add
-    unsigned primId = 0;     // the Embree primitive (quad or brick)
+    Vec3 position{0.0};    // world space, ray.at(t)
+    Vec3 normal{0, 0, 1};  // unit, world space, see "Normal convention"
+    int objectId = -1;     // index returned by SurfaceScene::add
+    unsigned primId = 0;   // the Embree primitive (quad or brick)
 };
 
 // Passed to rtcIntersect1/rtcOccluded1 in place of a plain RTCIntersectContext (it starts with
@@ -103,7 +103,7 @@ private:
     EmbreeDevice device_;
     EmbreeScene scene_;
     std::vector<std::shared_ptr<const SurfaceGeometry>> objects_;
-    std::vector<int> objectOfGeom_;  // Embree geometry ID → object ID
+    std::vector<int> objectOfGeom_;                   // Embree geometry ID → object ID
     std::vector<std::vector<ClipShape>> clipOfGeom_;  // by Embree geometry ID
     bool anyClip_ = false;
     std::vector<std::function<bool(const Vec3&)>> maskOfGeom_;  // by Embree geometry ID

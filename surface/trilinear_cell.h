@@ -4,7 +4,8 @@
 // methods shade with the same gradient.
 //
 // Cell convention: corners c[i + 2j + 4k] are the lattice values at cell + (i, j, k); local
-// coordinates u ∈ [0,1]³; f(u) = Σ c_ijk w_i(u_x) w_j(u_y) w_k(u_z) with w_0(s) = 1 − s, w_1(s) = s.
+// coordinates u ∈ [0,1]³; f(u) = Σ c_ijk w_i(u_x) w_j(u_y) w_k(u_z) with w_0(s) = 1 − s, w_1(s) =
+// s.
 //
 // Along a ray u(s) = u0 + s·du each weight is linear in s, so f is a cubic in s (Marmitt, Kleer,
 // Wald, Friedrich, Slusallek, "Fast and Accurate Ray-Voxel Intersection Techniques for Iso-Surface

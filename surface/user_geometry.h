@@ -43,11 +43,11 @@ inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx,
 // With a mask (RayContext::masks) a root the mask refuses is passed over and the search goes on
 // behind it.
 template <typename Surface>
-bool intersectClipped(const Surface& self, unsigned prim, const Vec3& o, const Vec3& d,
-                      double tMin, double tMax, const ClipIntervals* clip, double& t,
+bool intersectClipped(const Surface& self, unsigned prim, const Vec3& o, const Vec3& d, double tMin,
+                      double tMax, const ClipIntervals* clip, double& t,
                       const RayContext* ctx = nullptr, unsigned geomId = 0) {
-    const bool masked = ctx && ctx->masks && ctx->ray && geomId < ctx->masks->size() &&
-                        (*ctx->masks)[geomId];
+    const bool masked =
+        ctx && ctx->masks && ctx->ray && geomId < ctx->masks->size() && (*ctx->masks)[geomId];
     const auto search = [&](double a, double b) {
         for (int guard = 0; guard < 1024 && a <= b; ++guard) {
             if (!self.intersectPrimitive(prim, o, d, a, b, t)) return false;
@@ -88,7 +88,8 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
         Vec3 o, d;
         double tMin, tMax;
         laneRay(ray, args->N, i, ctx, o, d, tMin, tMax);
-        const Vec3 oi = self->primitiveSpace().toIndex(o), di = self->primitiveSpace().directionToIndex(d);
+        const Vec3 oi = self->primitiveSpace().toIndex(o),
+                   di = self->primitiveSpace().directionToIndex(d);
         double t;
         const ClipIntervals* clip = args->N == 1 && ctx ? ctx->clipOf(args->geomID) : nullptr;
         if (!intersectClipped(*self, args->primID, oi, di, tMin, tMax, clip, t,
@@ -135,7 +136,8 @@ void occluded(const RTCOccludedFunctionNArguments* args) {
 // convention"): gradientAt(world position) gives the world-space ∇f; a zero or non-finite
 // gradient (a saddle on the surface) falls back to −ray direction.
 template <typename GradientAt>
-SurfaceHit shadeByGradient(const Ray& ray, double t, unsigned primId, const GradientAt& gradientAt) {
+SurfaceHit shadeByGradient(const Ray& ray, double t, unsigned primId,
+                           const GradientAt& gradientAt) {
     SurfaceHit hit;
     hit.t = t;
     hit.position = ray.at(t);

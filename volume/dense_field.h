@@ -35,8 +35,8 @@ public:
     // The voxel (i, j, k), which must be in the box; neighbours along z are contiguous, along y
     // yStride() apart and along x xStride() apart (OpenVDB's leaf order, x slowest).
     const float* at(int i, int j, int k) const {
-        return data_ + (size_t(i - lo_[0]) * xStride_ + size_t(j - lo_[1]) * yStride_ +
-                        size_t(k - lo_[2]));
+        return data_ +
+               (size_t(i - lo_[0]) * xStride_ + size_t(j - lo_[1]) * yStride_ + size_t(k - lo_[2]));
     }
     size_t xStride() const { return xStride_; }
     size_t yStride() const { return yStride_; }

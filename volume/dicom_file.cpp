@@ -76,8 +76,8 @@ public:
         std::istringstream lines(raw);
         for (std::string line; std::getline(lines, line);) {
             while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-            if (line.empty() || line.rfind("Warning: In ", 0) == 0 || line.rfind("Error: In ", 0) == 0 ||
-                line.rfind("Debug: In ", 0) == 0)
+            if (line.empty() || line.rfind("Warning: In ", 0) == 0 ||
+                line.rfind("Error: In ", 0) == 0 || line.rfind("Debug: In ", 0) == 0)
                 continue;
             if (std::find(said.begin(), said.end(), line) == said.end()) said.push_back(line);
         }
@@ -93,7 +93,9 @@ private:
 };
 
 // " (GDCM: what it said)", or "" when it said nothing.
-std::string gdcmSaid(const std::string& said) { return said.empty() ? "" : " (GDCM: " + said + ")"; }
+std::string gdcmSaid(const std::string& said) {
+    return said.empty() ? "" : " (GDCM: " + said + ")";
+}
 
 // What the first pass keeps of one file.
 struct SliceHeader {
@@ -102,7 +104,8 @@ struct SliceHeader {
     bool hasPosition = false, hasOrientation = false, hasSpacing = false;
     Vec3d position{0, 0, 0};                 // ImagePositionPatient (0020,0032), LPS mm
     Vec3d rowDir{1, 0, 0}, colDir{0, 1, 0};  // ImageOrientationPatient (0020,0037)
-    double rowSpacing = 1.0, colSpacing = 1.0;  // PixelSpacing (0028,0030): rows apart, columns apart
+    double rowSpacing = 1.0,
+           colSpacing = 1.0;  // PixelSpacing (0028,0030): rows apart, columns apart
     double sliceThickness = 0.0, spacingBetweenSlices = 0.0;  // (0018,0050), (0018,0088)
     int rows = 0, columns = 0, frames = 1, samples = 1;
     double slope = 1.0, intercept = 0.0;  // RescaleSlope (0028,1053), RescaleIntercept (0028,1052)
@@ -189,11 +192,12 @@ SliceHeader readHeader(const std::string& path) {
     h.transferSyntax = transferSyntaxText(file.GetHeader().GetDataSetTransferSyntax());
     h.seriesUid = text(ds, 0x0020, 0x000e);
     h.seriesDescription = text(ds, 0x0008, 0x103e);
-    const std::vector<double> ipp = numbers(path, ds, 0x0020, 0x0032, "ImagePositionPatient (0020,0032)");
+    const std::vector<double> ipp =
+        numbers(path, ds, 0x0020, 0x0032, "ImagePositionPatient (0020,0032)");
     if (!ipp.empty()) {
         if (ipp.size() != 3)
-            throw Error(path + ": ImagePositionPatient (0020,0032) has " + std::to_string(ipp.size()) +
-                        " values, expected 3");
+            throw Error(path + ": ImagePositionPatient (0020,0032) has " +
+                        std::to_string(ipp.size()) + " values, expected 3");
         h.position = {ipp[0], ipp[1], ipp[2]};
         h.hasPosition = true;
     }
@@ -207,11 +211,12 @@ SliceHeader readHeader(const std::string& path) {
         h.colDir = {iop[3], iop[4], iop[5]};
         h.hasOrientation = true;
         // C.7.6.2.1.1: two orthogonal unit vectors. DS values carry few digits: 1e-3.
-        const double lr = std::sqrt(dot(h.rowDir, h.rowDir)), lc = std::sqrt(dot(h.colDir, h.colDir));
+        const double lr = std::sqrt(dot(h.rowDir, h.rowDir)),
+                     lc = std::sqrt(dot(h.colDir, h.colDir));
         if (std::abs(lr - 1.0) > 1e-3 || std::abs(lc - 1.0) > 1e-3 ||
             std::abs(dot(h.rowDir, h.colDir)) > 1e-3)
-            throw Error(path + ": ImageOrientationPatient (0020,0037) '" + text(ds, 0x0020, 0x0037) +
-                        "' is not two orthogonal unit vectors");
+            throw Error(path + ": ImageOrientationPatient (0020,0037) '" +
+                        text(ds, 0x0020, 0x0037) + "' is not two orthogonal unit vectors");
         for (int a = 0; a < 3; ++a) {
             h.rowDir[a] /= lr;
             h.colDir[a] /= lc;
@@ -273,17 +278,21 @@ std::vector<std::string> collectFiles(const std::vector<std::string>& inputs) {
             }
             if (ec) throw Error(in + ": cannot list the folder (" + ec.message() + ")");
             if (found.empty())
-                throw Error(in + ": the folder holds no DICOM image file (none with 'DICM' at byte "
-                                 "128" + std::string(subfolders ? "; its subfolders are not searched: "
-                                                                  "give the folder of one series" : "") +
+                throw Error(in +
+                            ": the folder holds no DICOM image file (none with 'DICM' at byte "
+                            "128" +
+                            std::string(subfolders ? "; its subfolders are not searched: "
+                                                     "give the folder of one series"
+                                                   : "") +
                             ")");
             std::sort(found.begin(), found.end());
             files.insert(files.end(), found.begin(), found.end());
         } else {
             if (!fs::exists(in, ec)) throw Error(in + ": no such file or folder");
             if (!hasDicomMagic(in))
-                throw Error(in + ": not a DICOM file (no 'DICM' at byte 128; files without the "
-                                 "DICOM Part 10 preamble are not read)");
+                throw Error(in +
+                            ": not a DICOM file (no 'DICM' at byte 128; files without the "
+                            "DICOM Part 10 preamble are not read)");
             if (isDicomDir(in))
                 throw Error(in + ": a DICOMDIR index, not an image: give the folder of the series");
             files.push_back(in);
@@ -324,20 +333,24 @@ Vec3d sortAndCheck(const std::string& where, std::vector<SliceHeader>& slices) {
     const SliceHeader& first = slices.front();
     for (const SliceHeader& s : slices) {
         if (s.samples != 1)
-            throw Error(s.path + ": " + std::to_string(s.samples) + " samples per pixel (colour); "
+            throw Error(s.path + ": " + std::to_string(s.samples) +
+                        " samples per pixel (colour); "
                         "only grey-level images (1 sample) make a volume");
         if (s.frames != 1)
             throw Error(s.path + ": a multi-frame image (" + std::to_string(s.frames) +
                         " frames); only series of single-frame slices are read");
         if (s.rows < 1 || s.columns < 1)
-            throw Error(s.path + ": no image size (Rows (0028,0010) and Columns (0028,0011) missing "
+            throw Error(s.path +
+                        ": no image size (Rows (0028,0010) and Columns (0028,0011) missing "
                         "or 0)");
         if (!s.hasPosition || !s.hasOrientation)
-            throw Error(s.path + ": no " + std::string(!s.hasPosition ? "ImagePositionPatient (0020,0032)"
-                                                                       : "ImageOrientationPatient (0020,0037)") +
+            throw Error(s.path + ": no " +
+                        std::string(!s.hasPosition ? "ImagePositionPatient (0020,0032)"
+                                                   : "ImageOrientationPatient (0020,0037)") +
                         ": the slice cannot be placed (PS3.3 C.7.6.2, Image Plane Module)");
         if (!s.hasSpacing)
-            throw Error(s.path + ": no PixelSpacing (0028,0030): the slice's pixel size is unknown");
+            throw Error(s.path +
+                        ": no PixelSpacing (0028,0030): the slice's pixel size is unknown");
         if (s.rows != first.rows || s.columns != first.columns)
             throw Error(where + ": slices of different sizes: " + first.path + " is " +
                         std::to_string(first.columns) + "x" + std::to_string(first.rows) + ", " +
@@ -345,10 +358,11 @@ Vec3d sortAndCheck(const std::string& where, std::vector<SliceHeader>& slices) {
         for (int a = 0; a < 3; ++a)
             if (std::abs(s.rowDir[a] - first.rowDir[a]) > 1e-4 ||
                 std::abs(s.colDir[a] - first.colDir[a]) > 1e-4) {
-                throw Error(where + ": mixed orientations: " + first.path + " has "
-                            "ImageOrientationPatient " + vecText(first.rowDir) + "\\" +
-                            vecText(first.colDir) + ", " + s.path + " has " + vecText(s.rowDir) +
-                            "\\" + vecText(s.colDir) +
+                throw Error(where + ": mixed orientations: " + first.path +
+                            " has "
+                            "ImageOrientationPatient " +
+                            vecText(first.rowDir) + "\\" + vecText(first.colDir) + ", " + s.path +
+                            " has " + vecText(s.rowDir) + "\\" + vecText(s.colDir) +
                             "; a volume needs one orientation");
             }
         if (std::abs(s.rowSpacing - first.rowSpacing) > 1e-4 * first.rowSpacing ||
@@ -358,8 +372,9 @@ Vec3d sortAndCheck(const std::string& where, std::vector<SliceHeader>& slices) {
     }
     const Vec3d normal = cross(first.rowDir, first.colDir);
     for (SliceHeader& s : slices) s.distance = dot(s.position, normal);
-    std::stable_sort(slices.begin(), slices.end(),
-                     [](const SliceHeader& a, const SliceHeader& b) { return a.distance < b.distance; });
+    std::stable_sort(slices.begin(), slices.end(), [](const SliceHeader& a, const SliceHeader& b) {
+        return a.distance < b.distance;
+    });
     const size_t n = slices.size();
     if (n == 1) {
         const double t = first.spacingBetweenSlices > 0.0 ? first.spacingBetweenSlices
@@ -374,9 +389,10 @@ Vec3d sortAndCheck(const std::string& where, std::vector<SliceHeader>& slices) {
     for (size_t k = 1; k < n; ++k) {
         const double d = slices[k].distance - slices[k - 1].distance;
         if (d < 1e-3)
-            throw Error(where + ": two slices at the same position (" + vecText(slices[k].position) +
-                        " mm): " + slices[k - 1].path + " and " + slices[k].path +
-                        " (several acquisitions, echoes or time points in one series are not read)");
+            throw Error(
+                where + ": two slices at the same position (" + vecText(slices[k].position) +
+                " mm): " + slices[k - 1].path + " and " + slices[k].path +
+                " (several acquisitions, echoes or time points in one series are not read)");
         smallest = std::min(smallest, d);
         largest = std::max(largest, d);
     }
@@ -407,12 +423,14 @@ Vec3d sortAndCheck(const std::string& where, std::vector<SliceHeader>& slices) {
     for (size_t k = 0; k < n; ++k) {
         double off = 0.0;
         for (int a = 0; a < 3; ++a) {
-            const double e = slices[k].position[a] - (slices.front().position[a] + double(k) * step[a]);
+            const double e =
+                slices[k].position[a] - (slices.front().position[a] + double(k) * step[a]);
             off += e * e;
         }
         if (std::sqrt(off) > tolerance)
             throw Error(where + ": the slice positions do not lie on one line: " + slices[k].path +
-                        " at " + vecText(slices[k].position) + " mm is " + std::to_string(std::sqrt(off)) +
+                        " at " + vecText(slices[k].position) + " mm is " +
+                        std::to_string(std::sqrt(off)) +
                         " mm off the line through the first and last slice");
     }
     return step;
@@ -425,14 +443,15 @@ std::vector<SliceHeader> chooseSeries(const std::string& where,
     if (!uid.empty()) {
         const auto it = series.find(uid);
         if (it == series.end())
-            throw Error(where + ": no series with SeriesInstanceUID '" + uid + "'; the files hold:" +
-                        seriesListText(series));
+            throw Error(where + ": no series with SeriesInstanceUID '" + uid +
+                        "'; the files hold:" + seriesListText(series));
         return std::move(it->second);
     }
     if (series.size() > 1)
         throw Error(where + ": the files hold " + std::to_string(series.size()) +
                     " series; choose one by its SeriesInstanceUID (scene source \"series\", or "
-                    "--series):" + seriesListText(series));
+                    "--series):" +
+                    seriesListText(series));
     return std::move(series.begin()->second);
 }
 
@@ -442,8 +461,8 @@ void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
     reader.SetFileName(h.path.c_str());
     GdcmMessages messages;
     if (!reader.Read())
-        throw Error(h.path + ": GDCM cannot read the image (transfer syntax " + h.transferSyntax + ")" +
-                    gdcmSaid(messages.take()));
+        throw Error(h.path + ": GDCM cannot read the image (transfer syntax " + h.transferSyntax +
+                    ")" + gdcmSaid(messages.take()));
     // What GDCM says while reading the pixel data is damage it worked around: a file cut short
     // ("Incomplete Pixel Data found, use file at own risk", the rest zero-filled). Other warnings
     // (about the header) are dropped.
@@ -458,19 +477,22 @@ void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
               highBit = pf.GetHighBit();
     const bool isSigned = pf.GetPixelRepresentation() == 1;
     if (allocated != 8 && allocated != 16 && allocated != 32)
-        throw Error(h.path + ": " + std::to_string(allocated) + " bits allocated per pixel; "
+        throw Error(h.path + ": " + std::to_string(allocated) +
+                    " bits allocated per pixel; "
                     "8, 16 and 32 are read");
     // PS3.5 8.1.1: the stored bits end at HighBit. Lobe reads the usual layout, HighBit =
     // BitsStored − 1 (the stored value in the low bits, anything above it ignored).
     if (stored < 1 || stored > allocated || highBit != stored - 1)
         throw Error(h.path + ": BitsStored " + std::to_string(stored) + " and HighBit " +
-                    std::to_string(highBit) + " are not the layout read here (HighBit = BitsStored - 1)");
+                    std::to_string(highBit) +
+                    " are not the layout read here (HighBit = BitsStored - 1)");
     const size_t count = size_t(h.rows) * size_t(h.columns);
     const size_t bytes = count * size_t(allocated / 8);
     if (image.GetBufferLength() != bytes)
-        throw Error(h.path + ": the decoded image holds " + std::to_string(image.GetBufferLength()) +
-                    " bytes, expected " + std::to_string(bytes) + " for " + std::to_string(h.columns) +
-                    "x" + std::to_string(h.rows) + " pixels of " + std::to_string(allocated) + " bits");
+        throw Error(h.path + ": the decoded image holds " +
+                    std::to_string(image.GetBufferLength()) + " bytes, expected " +
+                    std::to_string(bytes) + " for " + std::to_string(h.columns) + "x" +
+                    std::to_string(h.rows) + " pixels of " + std::to_string(allocated) + " bits");
     // Uncompressed pixel data must hold every pixel: GDCM zero-fills a short element (PS3.5
     // A.4: only encapsulated pixel data is fragmented; native data is one value of the full size).
     const gdcm::DataElement& pixelData =
@@ -479,21 +501,24 @@ void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
         const gdcm::ByteValue* value = pixelData.GetByteValue();
         const size_t held = value ? size_t(value->GetLength()) : 0;
         if (held < bytes)
-            throw Error(h.path + ": the pixel data holds " + std::to_string(held) + " bytes, expected " +
-                        std::to_string(bytes) + " for " + std::to_string(h.columns) + "x" +
-                        std::to_string(h.rows) + " pixels of " + std::to_string(allocated) +
-                        " bits (the file is damaged or cut short)");
+            throw Error(h.path + ": the pixel data holds " + std::to_string(held) +
+                        " bytes, expected " + std::to_string(bytes) + " for " +
+                        std::to_string(h.columns) + "x" + std::to_string(h.rows) + " pixels of " +
+                        std::to_string(allocated) + " bits (the file is damaged or cut short)");
     }
     std::vector<char> buffer(bytes);
     if (!image.GetBuffer(buffer.data()))
         throw Error(h.path + ": GDCM cannot decode the pixel data (transfer syntax " +
-                    h.transferSyntax + "); convert the series to an uncompressed transfer syntax "
-                    "first, e.g. with gdcmconv --raw" + gdcmSaid(messages.take()));
+                    h.transferSyntax +
+                    "); convert the series to an uncompressed transfer syntax "
+                    "first, e.g. with gdcmconv --raw" +
+                    gdcmSaid(messages.take()));
     // Any message while decoding is a decoder working around damage ("Corrupt JPEG data: ...",
     // "Requesting too much data. Truncating result"): its pixels are not the image.
     const std::string decodeSaid = messages.take();
     if (!decodeSaid.empty())
-        throw Error(h.path + ": the pixel data is damaged: it does not decode cleanly (transfer syntax " +
+        throw Error(h.path +
+                    ": the pixel data is damaged: it does not decode cleanly (transfer syntax " +
                     h.transferSyntax + "; GDCM: " + decodeSaid + ")");
     // GetBuffer gives the stored values in the machine's byte order. Keep the low BitsStored
     // bits and sign-extend them when PixelRepresentation is 1 (two's complement, PS3.5 8.1.1).
@@ -513,8 +538,9 @@ void decodeSlice(const SliceHeader& h, float* out, double& lo, double& hi) {
             raw = v;
         }
         raw &= mask;
-        const double value = isSigned && (raw & signBit) ? double(std::int64_t(raw) - std::int64_t(mask) - 1)
-                                                         : double(raw);
+        const double value = isSigned && (raw & signBit)
+                                 ? double(std::int64_t(raw) - std::int64_t(mask) - 1)
+                                 : double(raw);
         // C.11.1.1.2: output units = m · SV + b.
         const float f = static_cast<float>(value * h.slope + h.intercept);
         if (!std::isfinite(f))
@@ -545,13 +571,14 @@ DenseVolume readDicomDense(const std::vector<std::string>& inputs, const std::st
     DenseVolume v;
     v.dims = {first.columns, first.rows, int(slices.size())};
     const double voxels = double(first.columns) * first.rows * double(slices.size());
-    checkFits(voxels * sizeof(float), where + ": the series (" + std::to_string(first.columns) + "x" +
-                                          std::to_string(first.rows) + "x" +
+    checkFits(voxels * sizeof(float), where + ": the series (" + std::to_string(first.columns) +
+                                          "x" + std::to_string(first.rows) + "x" +
                                           std::to_string(slices.size()) + " voxels)");
     v.values.resize(size_t(voxels));
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     const size_t perSlice = size_t(first.columns) * size_t(first.rows);
-    for (size_t k = 0; k < slices.size(); ++k) decodeSlice(slices[k], v.values.data() + k * perSlice, lo, hi);
+    for (size_t k = 0; k < slices.size(); ++k)
+        decodeSlice(slices[k], v.values.data() + k * perSlice, lo, hi);
     v.min = lo;
     v.max = hi;
     if (slices.size() == 1) {
@@ -574,7 +601,8 @@ DenseVolume readDicomDense(const std::vector<std::string>& inputs, const std::st
                         first.colDir[2] * first.rowSpacing};
     for (int row = 0; row < 3; ++row) {
         const double sign = row < 2 ? -1.0 : 1.0;
-        v.affine[row] = {sign * colX[row], sign * colY[row], sign * step[row], sign * first.position[row]};
+        v.affine[row] = {sign * colX[row], sign * colY[row], sign * step[row],
+                         sign * first.position[row]};
     }
     return v;
 }

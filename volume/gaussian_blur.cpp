@@ -82,7 +82,8 @@ void gaussianBlurFwhm(Volume& volume, double fwhm) {
         for (int k = 0; k < n[2]; ++k)
             for (int j = 0; j < n[1]; ++j)
                 for (int i = 0; i < n[0]; ++i)
-                    data[(size_t(k) * n[1] + j) * n[0] + i] = acc.getValue(lo + openvdb::Coord(i, j, k));
+                    data[(size_t(k) * n[1] + j) * n[0] + i] =
+                        acc.getValue(lo + openvdb::Coord(i, j, k));
     }
     const double sigma = fwhm / (2.0 * std::sqrt(2.0 * std::log(2.0)));
     for (int a = 0; a < 3; ++a) convolveAxis(data, n, a, gaussianKernel(sigma / axes[a].length()));

@@ -6,6 +6,8 @@
 #include "core/nearest_name.h"
 #include "volume/volume_file.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -13,7 +15,6 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace lobe {
 
@@ -119,7 +120,8 @@ LabelTable readMricronTable(const std::string& txtPath, const std::string& lutPa
     table.format = "mricron";
     if (!txtPath.empty()) {
         std::ifstream in(txtPath);
-        if (!in) throw Error(txtPath + ": cannot open the label table (" + std::strerror(errno) + ")");
+        if (!in)
+            throw Error(txtPath + ": cannot open the label table (" + std::strerror(errno) + ")");
         std::string line;
         int lineNo = 0;
         while (std::getline(in, line)) {
@@ -131,8 +133,10 @@ LabelTable readMricronTable(const std::string& txtPath, const std::string& lutPa
             long id, code;
             if (t.size() < 2 || t.size() > 3 || !wholeNumber(t[0], id) || id < 0 ||
                 (t.size() == 3 && !wholeNumber(t[2], code)))
-                throw Error(where + ": expected 'index name' or 'index name code' (MRIcron's "
-                                    "atlas table), got '" + line + "'");
+                throw Error(where +
+                            ": expected 'index name' or 'index name code' (MRIcron's "
+                            "atlas table), got '" +
+                            line + "'");
             LabelEntry e;
             e.id = int(id);
             e.name = t[1];
@@ -143,8 +147,9 @@ LabelTable readMricronTable(const std::string& txtPath, const std::string& lutPa
     if (!lutPath.empty()) {
         const std::vector<unsigned char> bytes = detail::readFileBytes(lutPath, false);
         if (bytes.size() != 768)
-            throw Error(lutPath + ": an MRIcron colour table (.lut) holds 768 bytes (256 red, 256 "
-                                  "green, 256 blue values), this file holds " +
+            throw Error(lutPath +
+                        ": an MRIcron colour table (.lut) holds 768 bytes (256 red, 256 "
+                        "green, 256 blue values), this file holds " +
                         std::to_string(bytes.size()));
         // Indices the .txt names get their colour; without a .txt every index 1–255 is a label.
         for (int i = 1; i < 256; ++i) {
@@ -176,8 +181,9 @@ LabelTable readLabelTable(const std::string& path) {
     while (std::getline(in, line)) {
         ++lineNo;
         if (line.find('\0') != std::string::npos)
-            throw Error(path + ": not a text label table (it holds binary data; an MRIcron colour "
-                               "table must be named .lut)");
+            throw Error(path +
+                        ": not a text label table (it holds binary data; an MRIcron colour "
+                        "table must be named .lut)");
         bool quoted, open;
         const std::vector<std::string> t = tokens(line, quoted, open);
         if (t.empty() || t[0][0] == '#') continue;
@@ -192,9 +198,11 @@ LabelTable readLabelTable(const std::string& path) {
             else if (t.size() == 2 || t.size() == 3)
                 table.format = "mricron";
             else
-                throw Error(where + ": not a label table line: expected 'index name R G B A' "
-                                    "(FreeSurfer), 'IDX R G B A VIS MSH \"LABEL\"' (ITK-SNAP) or "
-                                    "'index name [code]' (MRIcron), got '" + line + "'");
+                throw Error(where +
+                            ": not a label table line: expected 'index name R G B A' "
+                            "(FreeSurfer), 'IDX R G B A VIS MSH \"LABEL\"' (ITK-SNAP) or "
+                            "'index name [code]' (MRIcron), got '" +
+                            line + "'");
         }
         long id;
         if (!wholeNumber(t[0], id) || id < 0)
@@ -215,8 +223,10 @@ LabelTable readLabelTable(const std::string& path) {
             e.name = t[7];
         } else if (table.format == "freesurfer") {
             if (t.size() != 6)
-                throw Error(where + ": expected 'index name R G B A' (FreeSurfer colour table), "
-                                    "got '" + line + "'");
+                throw Error(where +
+                            ": expected 'index name R G B A' (FreeSurfer colour table), "
+                            "got '" +
+                            line + "'");
             e.name = t[1];
             e.rgb = {colourByte(t[2], where, "red"), colourByte(t[3], where, "green"),
                      colourByte(t[4], where, "blue")};
@@ -225,15 +235,18 @@ LabelTable readLabelTable(const std::string& path) {
         } else {
             long code;
             if (t.size() < 2 || t.size() > 3 || (t.size() == 3 && !wholeNumber(t[2], code)))
-                throw Error(where + ": expected 'index name' or 'index name code' (MRIcron's "
-                                    "atlas table), got '" + line + "'");
+                throw Error(where +
+                            ": expected 'index name' or 'index name code' (MRIcron's "
+                            "atlas table), got '" +
+                            line + "'");
             e.name = t[1];
         }
         addEntry(table, e, where);
     }
     if (table.entries.empty()) throw Error(path + ": the label table lists no label");
     if (table.format == "mricron") {  // its colours, when the .lut sits beside it
-        const std::string stem = detail::endsWith(path, ".txt") ? path.substr(0, path.size() - 4) : "";
+        const std::string stem =
+            detail::endsWith(path, ".txt") ? path.substr(0, path.size() - 4) : "";
         if (!stem.empty() && fileExists(stem + ".lut")) {
             LabelTable colours = readMricronTable("", stem + ".lut");
             for (auto& [id, e] : table.entries)

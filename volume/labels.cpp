@@ -50,7 +50,8 @@ LabelMap indexLabelMap(std::shared_ptr<const Volume> volume) {
             std::snprintf(value, sizeof value, "%.9g", double(v) / volume->valueScale);
             throw Error(volume->sourcePath + ": not a label map: voxel (" + std::to_string(c.x()) +
                         ", " + std::to_string(c.y()) + ", " + std::to_string(c.z()) + ") holds " +
-                        value + ", not a whole number (labels are whole numbers; is this an "
+                        value +
+                        ", not a whole number (labels are whole numbers; is this an "
                         "intensity image or a probability map?)");
         }
         LabelInfo& info = map.labels[int(v)];

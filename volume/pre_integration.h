@@ -21,13 +21,13 @@
 // extinction-weighted mean colour. The colour neglects the attenuation *within* the segment (the
 // usual approximation of the 1-D table; the exact 2-D table would weight c(u) by the
 // transmittance from the segment's start): its error vanishes as α → 0 and with the step. When
-// Where in the segment: the extinction-weighted mean value ū = (M(s_b) − M(s_f)) / (T(s_b) − T(s_f))
-// with M(v) = ∫ τ(u) u du, as a fraction (ū − s_f) / (s_b − s_f) of the way from front to back —
-// the segment's centre of extinction, where the marcher places and shades its sample (shading at
-// the back point instead shifted every surface-like structure up to a step deeper: on the CThead
-// at step 1 that made the error worse than point sampling's).
-// When |s_b − s_f| < 1e-6 of the span, the point values at the midpoint are used (the limit of both
-// formulas; below it the quotients would lose more digits to cancellation than the limit does).
+// Where in the segment: the extinction-weighted mean value ū = (M(s_b) − M(s_f)) / (T(s_b) −
+// T(s_f)) with M(v) = ∫ τ(u) u du, as a fraction (ū − s_f) / (s_b − s_f) of the way from front to
+// back — the segment's centre of extinction, where the marcher places and shades its sample
+// (shading at the back point instead shifted every surface-like structure up to a step deeper: on
+// the CThead at step 1 that made the error worse than point sampling's). When |s_b − s_f| < 1e-6 of
+// the span, the point values at the midpoint are used (the limit of both formulas; below it the
+// quotients would lose more digits to cancellation than the limit does).
 //
 // Table: T and K at 4096 equal intervals spanning the transfer function's control points, each
 // interval integrated by 4-point Gauss–Legendre quadrature (exact for τ·c polynomial of degree
@@ -35,10 +35,10 @@
 // Outside the span the end values hold (transfer_function.h), so T and K continue linearly.
 #pragma once
 
-#include <vector>
-
 #include "core/spectrum.h"
 #include "volume/transfer_function.h"
+
+#include <vector>
 
 namespace lobe {
 
@@ -69,11 +69,11 @@ private:
 
     TransferFunction tf_;
     double v0_ = 0.0, v1_ = 1.0, h_ = 1.0 / kIntervals;
-    double tauLo_ = 0.0, tauHi_ = 0.0;       // τ below v0 and above v1
-    Spectrum tauCLo_{0.0}, tauCHi_{0.0};     // τ·c there
-    std::vector<double> t_;                  // T at the nodes
-    std::vector<Spectrum> k_;                // K at the nodes
-    std::vector<double> m_;                  // M at the nodes
+    double tauLo_ = 0.0, tauHi_ = 0.0;    // τ below v0 and above v1
+    Spectrum tauCLo_{0.0}, tauCHi_{0.0};  // τ·c there
+    std::vector<double> t_;               // T at the nodes
+    std::vector<Spectrum> k_;             // K at the nodes
+    std::vector<double> m_;               // M at the nodes
 };
 
 }  // namespace lobe

@@ -1,12 +1,12 @@
 #include "volume/reconstruction.h"
 
+#include "core/error.h"
+
 #include <Imath/ImathMatrix.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-
-#include "core/error.h"
 
 namespace lobe {
 

@@ -36,10 +36,10 @@
 // the same values, hence the same results — and the others from the tree.
 #pragma once
 
-#include <openvdb/openvdb.h>
-
 #include "core/math.h"
 #include "volume/dense_field.h"
+
+#include <openvdb/openvdb.h>
 
 namespace lobe {
 

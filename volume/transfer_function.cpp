@@ -1,12 +1,12 @@
 #include "volume/transfer_function.h"
 
+#include "core/error.h"
+
 #include <Imath/ImathMatrix.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include "core/error.h"
 
 namespace lobe {
 

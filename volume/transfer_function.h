@@ -26,11 +26,11 @@
 // (sRGB colours outside the CIE RGB gamut lose their negative band).
 #pragma once
 
+#include "core/spectrum.h"
+
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "core/spectrum.h"
 
 namespace lobe {
 

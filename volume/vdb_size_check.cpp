@@ -2,24 +2,23 @@
 
 #include "core/error.h"
 
+#include <fcntl.h>
 #include <openvdb/Metadata.h>
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/version.h>
-
-#include <cstdint>
-#include <cstring>
-#include <algorithm>
-#include <array>
-#include <bitset>
-#include <fstream>
-#include <map>
-#include <utility>
-
-#include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <bitset>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <utility>
 
 namespace lobe::detail {
 
@@ -303,16 +302,18 @@ std::unique_ptr<std::streambuf> oneGridOf(const std::string& path, const VdbLayo
     return std::make_unique<OneGridBuffer>(path, layout, grid);
 }
 
-
 namespace {
 
 // Map::read of each map type (math/Maps.h): fixed-size vectors and matrices of doubles, except
 // the frustum map, which stores a box, taper and depth, then a second map by type name.
 void skipMap(Walk& walk, const std::string& type, const std::string& where, int depth) {
     static const std::map<std::string, std::uint64_t> fixedBytes = {
-        {"AffineMap", 16 * 8},          {"UnitaryMap", 16 * 8},
-        {"ScaleMap", 5 * 24},           {"UniformScaleMap", 5 * 24},
-        {"TranslationMap", 24},         {"ScaleTranslateMap", 6 * 24},
+        {"AffineMap", 16 * 8},
+        {"UnitaryMap", 16 * 8},
+        {"ScaleMap", 5 * 24},
+        {"UniformScaleMap", 5 * 24},
+        {"TranslationMap", 24},
+        {"ScaleTranslateMap", 6 * 24},
         {"UniformScaleTranslateMap", 6 * 24}};
     if (const auto it = fixedBytes.find(type); it != fixedBytes.end()) {
         walk.skip(it->second, where + " " + type);
@@ -395,8 +396,7 @@ void checkValues(Walk& walk, const ValueFormat& f, std::uint32_t size, std::uint
         metadata == MASK_AND_TWO_INACTIVE_VALS)
         walk.skip(size / 8, where + " selection mask");
     const bool maskCompressed = (f.compression & COMPRESS_ACTIVE_MASK) != 0;
-    const std::uint64_t count =
-        maskCompressed && metadata != NO_MASK_AND_ALL_VALS ? active : size;
+    const std::uint64_t count = maskCompressed && metadata != NO_MASK_AND_ALL_VALS ? active : size;
     if (f.half && count == 0) return;  // HalfReader reads nothing then
     const std::uint64_t bytes = count * (f.half ? 2 : sizeof(float));
     if (f.compression & COMPRESS_BLOSC)
@@ -429,7 +429,8 @@ void checkTree(Walk& walk, const ValueFormat& f) {
         walk.readBytes(origin.data(), sizeof origin, "root child origin");
         branches.emplace_back();
         const std::string upper = "node at (" + std::to_string(origin[0]) + ", " +
-                                  std::to_string(origin[1]) + ", " + std::to_string(origin[2]) + ")";
+                                  std::to_string(origin[1]) + ", " + std::to_string(origin[2]) +
+                                  ")";
         readMask(walk, 32768, upper + " child mask", &upperChildren);
         const auto upperActive = readMask(walk, 32768, upper + " value mask");
         checkValues(walk, f, 32768, upperActive, upper + " tile values");
@@ -448,7 +449,8 @@ void checkTree(Walk& walk, const ValueFormat& f) {
     }
     for (const auto& [origin, c] : table) {
         const std::string where = "leaf under the node at (" + std::to_string(origin[0]) + ", " +
-                                  std::to_string(origin[1]) + ", " + std::to_string(origin[2]) + ")";
+                                  std::to_string(origin[1]) + ", " + std::to_string(origin[2]) +
+                                  ")";
         for (const std::uint16_t topologyActive : branches[c]) {
             // The buffer repeats the leaf's mask; which copy OpenVDB counts depends on the
             // stream, so they must agree.
@@ -465,7 +467,7 @@ void checkTree(Walk& walk, const ValueFormat& f) {
 }  // namespace
 
 void checkVdbFloatTree(const std::string& path, const VdbGridEntry& grid) {
-    if (grid.instance) return;  // its tree is its parent's
+    if (grid.instance) return;                     // its tree is its parent's
     const std::string plain = "Tree_float_5_4_3";  // openvdb::FloatTree::treeType()
     const std::string halfSuffix = "_HalfFloat";  // io/GridDescriptor.cc HALF_FLOAT_TYPENAME_SUFFIX
     ValueFormat format;

@@ -39,8 +39,8 @@ struct VdbGridEntry {
 };
 struct VdbLayout {
     VdbMetaLayout fileMeta;
-    std::uint64_t gridCountAt = 0;     // offset of the grid count (after the file metadata)
-    std::vector<VdbGridEntry> grids;   // without grid offsets (a stream): the first grid only
+    std::uint64_t gridCountAt = 0;    // offset of the grid count (after the file metadata)
+    std::vector<VdbGridEntry> grids;  // without grid offsets (a stream): the first grid only
 };
 
 // Throws lobe::Error naming PATH and the field when a size field exceeds what the file holds
@@ -59,7 +59,8 @@ void checkVdbFloatTree(const std::string& path, const VdbGridEntry& grid);
 
 // The file as OpenVDB should read it to get one grid: its header and metadata, a grid count of
 // 1, and that grid's descriptor and data — so no byte the walk did not check is read as a
-// descriptor — without the metadata entries the walk dropped (their tables' counts lowered). Reads past the end fail (give the istream exceptions to stop OpenVDB there).
+// descriptor — without the metadata entries the walk dropped (their tables' counts lowered). Reads
+// past the end fail (give the istream exceptions to stop OpenVDB there).
 std::unique_ptr<std::streambuf> oneGridOf(const std::string& path, const VdbLayout& layout,
                                           const VdbGridEntry& grid);
 

@@ -15,13 +15,12 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
-
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -110,7 +109,8 @@ Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
         const double width = dense.max - dense.min;
         for (float v : dense.values) {
             const double f = width > 0.0 ? (double(v) - dense.min) / width * kPercentileBins : 0.0;
-            h.counts[std::size_t(std::min(double(kPercentileBins - 1), std::max(0.0, std::floor(f))))]++;
+            h.counts[std::size_t(
+                std::min(double(kPercentileBins - 1), std::max(0.0, std::floor(f))))]++;
         }
         return h.percentile(p);
     });
@@ -124,9 +124,9 @@ Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
         }
 
     // The file's arrays are x fastest: OpenVDB's LayoutXYZ (offset = i + j·X + k·X·Y).
-    const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0),
-                                 openvdb::Coord(dense.dims[0] - 1, dense.dims[1] - 1,
-                                                dense.dims[2] - 1));
+    const openvdb::CoordBBox box(
+        openvdb::Coord(0, 0, 0),
+        openvdb::Coord(dense.dims[0] - 1, dense.dims[1] - 1, dense.dims[2] - 1));
     openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> denseGrid(box, dense.values.data());
     volume.grid = openvdb::FloatGrid::create(0.0f);
     // Tolerance 0: only voxels exactly equal to the background 0 are left out (they read back
@@ -151,8 +151,9 @@ Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
         // (core/math.h, nearlySingular), so this is the voxels' absolute size.
         char size[32];
         std::snprintf(size, sizeof size, "%.3g", std::abs(m.det()));
-        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() + "): a voxel of " +
-                    size + " world units³ is smaller than OpenVDB's maps allow (3e-15)");
+        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() +
+                    "): a voxel of " + size +
+                    " world units³ is smaller than OpenVDB's maps allow (3e-15)");
     }
     for (int col = 0; col < 3; ++col)
         volume.spacing[col] = std::sqrt(dense.affine[0][col] * dense.affine[0][col] +
@@ -201,11 +202,12 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
             const std::string name = openvdb::io::GridDescriptor::stripSuffix(g.name);
             names += (names.empty() ? "" : ", ") + name;
             const bool isFloat = g.type.rfind(openvdb::FloatGrid::gridType(), 0) == 0;
-            if (!chosen && (options.gridName.empty() ? isFloat : name == options.gridName)) chosen = &g;
+            if (!chosen && (options.gridName.empty() ? isFloat : name == options.gridName))
+                chosen = &g;
         }
         if (!chosen && !options.gridName.empty())
-            throw Error(path + ": no grid named '" + options.gridName + "' (the file has: " +
-                        (names.empty() ? "none" : names) + ")");
+            throw Error(path + ": no grid named '" + options.gridName +
+                        "' (the file has: " + (names.empty() ? "none" : names) + ")");
         if (!chosen)
             throw Error(path + ": the file holds no float grid (Lobe volumes are float grids)");
         // Its transform and tree walked first: OpenVDB copies a value chunk of the size the
@@ -224,18 +226,21 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
             throw Error(path + ": cannot read the OpenVDB file (no grid in it)");
         base = grids->front();
     } catch (const std::ios_base::failure&) {
-        throw Error(path + ": cannot read the OpenVDB file (it ends before the data its fields "
-                           "announce: the file is damaged or truncated)");
+        throw Error(path +
+                    ": cannot read the OpenVDB file (it ends before the data its fields "
+                    "announce: the file is damaged or truncated)");
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": cannot read the OpenVDB file (" + e.what() + ")");
     } catch (const std::bad_alloc&) {
         // OpenVDB allocates what a file's size fields say before it reads the data: a damaged
         // or hostile field asks for terabytes.
-        throw Error(path + ": cannot read the OpenVDB file (a size field asks for more memory "
-                           "than there is: the file is damaged)");
+        throw Error(path +
+                    ": cannot read the OpenVDB file (a size field asks for more memory "
+                    "than there is: the file is damaged)");
     } catch (const std::length_error&) {
-        throw Error(path + ": cannot read the OpenVDB file (a size field is out of range: the "
-                           "file is damaged)");
+        throw Error(path +
+                    ": cannot read the OpenVDB file (a size field is out of range: the "
+                    "file is damaged)");
     }
     openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
     if (!grid)
@@ -268,7 +273,8 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
         if (box.empty()) throw Error(path + ": grid '" + grid->getName() + "' is empty");
         for (int a = 0; a < 3; ++a)  // CoordBBox::dim() is int: a span of 2^31 would overflow
             if (int64_t(box.max()[a]) - box.min()[a] + 1 > int64_t(1) << 30)
-                throw Error(path + ": grid '" + grid->getName() + "' spans more than 2^30 voxels "
+                throw Error(path + ": grid '" + grid->getName() +
+                            "' spans more than 2^30 voxels "
                             "along an axis; Lobe's volumes span at most that");
         dims = openvdb::Vec3i(box.dim().x(), box.dim().y(), box.dim().z());
         origin = openvdb::Vec3i(box.min().x(), box.min().y(), box.min().z());
@@ -304,10 +310,11 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     if (readMeta<openvdb::StringMetadata>(*grid, kMetaSource, source)) volume.sourcePath = source;
 
     // Further scaling asked for now composes with what the file already holds.
-    const double extra = valueScaleFor(path, options, volume.originalMax * storedScale, [&](double p) {
-        // Over every voxel of the box, as `lobe info` (summaryOf) counts them.
-        return percentileHistogram(volume).percentile(p);
-    });
+    const double extra =
+        valueScaleFor(path, options, volume.originalMax * storedScale, [&](double p) {
+            // Over every voxel of the box, as `lobe info` (summaryOf) counts them.
+            return percentileHistogram(volume).percentile(p);
+        });
     volume.valueScale = storedScale * extra;
     if (extra != 1.0)
         for (auto it = grid->tree().beginValueAll(); it; ++it)
@@ -329,9 +336,10 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
 Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& options) {
     const std::string where = inputs.empty() ? std::string("DICOM") : inputs.front();
     if (options.hasLayout)
-        throw Error(where + ": a DICOM series has its own layout; the raw-file options (--dims, "
-                            "--type, --endian, --spacing, --offset; a scene's dims, type, endian, "
-                            "spacing) do not apply");
+        throw Error(where +
+                    ": a DICOM series has its own layout; the raw-file options (--dims, "
+                    "--type, --endian, --spacing, --offset; a scene's dims, type, endian, "
+                    "spacing) do not apply");
     std::string source = where;
     if (inputs.size() > 1) source += " (and " + std::to_string(inputs.size() - 1) + " more files)";
     if (!options.series.empty()) source += ", series " + options.series;
@@ -344,8 +352,9 @@ Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& opti
 
 Volume loadArray(const VolumeArray& array, const LoadOptions& options) {
     if (options.hasLayout)
-        throw Error(array.name + ": an array has its own layout; the raw-file options (dims, type, "
-                                 "endian, spacing) do not apply");
+        throw Error(array.name +
+                    ": an array has its own layout; the raw-file options (dims, type, "
+                    "endian, spacing) do not apply");
     return buildVolume(detail::readArrayDense(array), array.name, options);
 }
 
@@ -353,8 +362,9 @@ Volume loadVolume(const std::vector<std::string>& paths, const LoadOptions& opti
     if (paths.size() == 1) return loadVolume(paths.front(), options);
     for (const std::string& p : paths)
         if (!detail::hasDicomMagic(p))
-            throw Error(p + ": several input files are read as the slices of one DICOM series, "
-                            "but this is not a DICOM file (no 'DICM' at byte 128)");
+            throw Error(p +
+                        ": several input files are read as the slices of one DICOM series, "
+                        "but this is not a DICOM file (no 'DICM' at byte 128)");
     return loadDicom(paths, options);
 }
 
@@ -373,9 +383,10 @@ Volume loadVolume(const std::string& path, const LoadOptions& options) {
     if (!std::ifstream(path, std::ios::binary))
         throw Error(path + ": cannot open the file (" + std::strerror(errno) + ")");
     if (!options.hasLayout)
-        throw Error(path + ": a headerless (raw) volume needs its layout: give --dims X,Y,Z, "
-                           "--type, --endian and --spacing (known formats: .nii, .nii.gz, .nhdr, "
-                           ".mgh, .mgz, .vdb, DICOM series as a folder or files)");
+        throw Error(path +
+                    ": a headerless (raw) volume needs its layout: give --dims X,Y,Z, "
+                    "--type, --endian and --spacing (known formats: .nii, .nii.gz, .nhdr, "
+                    ".mgh, .mgz, .vdb, DICOM series as a folder or files)");
     RawLayout layout = options.layout;
     layout.gzip = endsWith(path, ".gz");
     return loadRaw(path, layout, options);
@@ -386,12 +397,11 @@ void writeVdb(const Volume& volume, const std::string& path, const std::string& 
     if (!volume.grid) throw Error(path + ": no grid to write");
     openvdb::FloatGrid::Ptr out = volume.grid->copy();  // shares the tree; own metadata
     out->setName(gridName.empty() ? std::string(kDefaultGridName) : gridName);
-    out->insertMeta(kMetaDims, openvdb::Vec3IMetadata(openvdb::Vec3i(
-                                   volume.dims[0], volume.dims[1], volume.dims[2])));
+    out->insertMeta(kMetaDims, openvdb::Vec3IMetadata(
+                                   openvdb::Vec3i(volume.dims[0], volume.dims[1], volume.dims[2])));
     out->insertMeta(kMetaIndexOrigin,
-                    openvdb::Vec3IMetadata(openvdb::Vec3i(volume.indexOrigin[0],
-                                                          volume.indexOrigin[1],
-                                                          volume.indexOrigin[2])));
+                    openvdb::Vec3IMetadata(openvdb::Vec3i(
+                        volume.indexOrigin[0], volume.indexOrigin[1], volume.indexOrigin[2])));
     out->insertMeta(kMetaSource, openvdb::StringMetadata(volume.sourcePath));
     out->insertMeta(kMetaOriginalMin, openvdb::DoubleMetadata(volume.originalMin));
     out->insertMeta(kMetaOriginalMax, openvdb::DoubleMetadata(volume.originalMax));
@@ -405,8 +415,8 @@ void writeVdb(const Volume& volume, const std::string& path, const std::string& 
     try {
         std::ofstream os(temp, std::ios::binary | std::ios::trunc);
         if (!os)
-            throw Error(path + ": cannot write the OpenVDB file (cannot create '" + temp + "': " +
-                        std::strerror(errno) + ")");
+            throw Error(path + ": cannot write the OpenVDB file (cannot create '" + temp +
+                        "': " + std::strerror(errno) + ")");
         openvdb::io::Stream(os).write({out});
         os.close();
         if (!os)
@@ -462,7 +472,8 @@ std::string volumeContentHash(const Volume& volume) {
         const openvdb::Coord o = leaf->origin();
         f.value(o);
         const auto& mask = leaf->getValueMask();
-        for (openvdb::Index w = 0; w < mask.WORD_COUNT; ++w) f.value(mask.getWord<openvdb::Index64>(w));
+        for (openvdb::Index w = 0; w < mask.WORD_COUNT; ++w)
+            f.value(mask.getWord<openvdb::Index64>(w));
         f.add(leaf->buffer().data(), leaf->SIZE * sizeof(float));
     }
     // Tiles above the leaves: where, how large, the value and whether active.
@@ -484,9 +495,10 @@ VolumeStats computeStats(const Volume& volume) {
     const openvdb::FloatGrid& grid = *volume.grid;
     double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0;
     const std::array<int, 3>& o = volume.indexOrigin;
-    const openvdb::CoordBBox box(openvdb::Coord(o[0], o[1], o[2]),
-                                 openvdb::Coord(o[0] + volume.dims[0] - 1, o[1] + volume.dims[1] - 1,
-                                                o[2] + volume.dims[2] - 1));
+    const openvdb::CoordBBox box(
+        openvdb::Coord(o[0], o[1], o[2]),
+        openvdb::Coord(o[0] + volume.dims[0] - 1, o[1] + volume.dims[1] - 1,
+                       o[2] + volume.dims[2] - 1));
     s.voxels = std::int64_t(volume.dims[0]) * volume.dims[1] * volume.dims[2];
     // Over what the tree stores (voxels and tiles, each clipped to the box), then the background
     // for the voxels of the box the tree does not store: time in proportion to the stored data,
@@ -517,14 +529,14 @@ VolumeStats computeStats(const Volume& volume) {
     s.memoryBytes = static_cast<std::int64_t>(grid.memUsage());
     for (int corner = 0; corner < 8; ++corner) {
         openvdb::Vec3d p;
-        for (int a = 0; a < 3; ++a)
-            p[a] = o[a] - 0.5 + ((corner >> a) & 1 ? volume.dims[a] : 0);
+        for (int a = 0; a < 3; ++a) p[a] = o[a] - 0.5 + ((corner >> a) & 1 ? volume.dims[a] : 0);
         s.worldBox.expand(grid.transform().indexToWorld(p));
     }
     return s;
 }
 
-ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins, bool activeOnly) {
+ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins,
+                              bool activeOnly) {
     ValueHistogram h;
     h.lo = lo;
     h.hi = hi;
@@ -536,9 +548,10 @@ ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bi
     };
     const openvdb::FloatGrid& grid = *volume.grid;
     const std::array<int, 3>& o = volume.indexOrigin;
-    const openvdb::CoordBBox box(openvdb::Coord(o[0], o[1], o[2]),
-                                 openvdb::Coord(o[0] + volume.dims[0] - 1, o[1] + volume.dims[1] - 1,
-                                                o[2] + volume.dims[2] - 1));
+    const openvdb::CoordBBox box(
+        openvdb::Coord(o[0], o[1], o[2]),
+        openvdb::Coord(o[0] + volume.dims[0] - 1, o[1] + volume.dims[1] - 1,
+                       o[2] + volume.dims[2] - 1));
     std::int64_t covered = 0;
     for (auto it = grid.tree().cbeginValueAll(); it; ++it) {
         if (activeOnly && !it.isValueOn()) continue;
@@ -566,7 +579,8 @@ double ValueHistogram::percentile(double p) const {
     for (std::int64_t c : counts) total += c;
     if (total == 0) return std::nan("");
     // Nearest rank: the ceil(p/100 · N)-th smallest value (at least the first).
-    const std::int64_t rank = std::max<std::int64_t>(1, std::int64_t(std::ceil(p / 100.0 * double(total))));
+    const std::int64_t rank =
+        std::max<std::int64_t>(1, std::int64_t(std::ceil(p / 100.0 * double(total))));
     std::int64_t seen = 0;
     for (std::size_t b = 0; b < counts.size(); ++b) {
         seen += counts[b];
@@ -586,8 +600,8 @@ VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
     out.dims = volume.dims;
     out.indexOrigin = volume.indexOrigin;
     out.spacing = volume.spacing;
-    const openvdb::Vec3d first = volume.grid->transform().indexToWorld(openvdb::Vec3d(
-        volume.indexOrigin[0], volume.indexOrigin[1], volume.indexOrigin[2]));
+    const openvdb::Vec3d first = volume.grid->transform().indexToWorld(
+        openvdb::Vec3d(volume.indexOrigin[0], volume.indexOrigin[1], volume.indexOrigin[2]));
     for (int a = 0; a < 3; ++a) {
         out.worldMin[a] = s.worldBox.min()[a];
         out.worldMax[a] = s.worldBox.max()[a];
@@ -622,8 +636,8 @@ std::string pathsText(const std::vector<std::string>& paths) {
 }
 }  // namespace
 
-VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options,
-                              double blurFwhm, int histogramBins) {
+VolumeSummary summarizeVolume(const std::string& path, const LoadOptions& options, double blurFwhm,
+                              int histogramBins) {
     return summarizeVolume(std::vector<std::string>{path}, options, blurFwhm, histogramBins);
 }
 

@@ -47,9 +47,9 @@ struct Volume {
     openvdb::FloatGrid::Ptr grid;
     std::string sourcePath;
     std::array<int, 3> dims{0, 0, 0};
-    std::array<int, 3> indexOrigin{0, 0, 0};   // index of voxel (0,0,0); 0 except foreign .vdb
-    std::array<double, 3> spacing{1, 1, 1};    // world lengths of the index unit vectors
-    double originalMin = 0.0;                  // value range before valueScale
+    std::array<int, 3> indexOrigin{0, 0, 0};  // index of voxel (0,0,0); 0 except foreign .vdb
+    std::array<double, 3> spacing{1, 1, 1};   // world lengths of the index unit vectors
+    double originalMin = 0.0;                 // value range before valueScale
     double originalMax = 0.0;
     double valueScale = 1.0;
     double background = 0.0;
@@ -68,7 +68,8 @@ Volume loadMgh(const std::string& path, const LoadOptions& options = {});
 // A DICOM series from folders or files (volume/dicom_file.h: sorting, checks, LPS → RAS, rescale);
 // options.series picks one series by SeriesInstanceUID. A raw layout in options is an error.
 Volume loadDicom(const std::vector<std::string>& inputs, const LoadOptions& options = {});
-// Dispatches on the name: .nii / .nii.gz, .nhdr, .mgh / .mgz, .vdb; a folder, or a file with the DICOM magic
+// Dispatches on the name: .nii / .nii.gz, .nhdr, .mgh / .mgz, .vdb; a folder, or a file with the
+// DICOM magic
 // ('DICM' at byte 128, whatever its name), is a DICOM series; otherwise raw (.raw, .raw.gz, …),
 // which needs options.hasLayout. A DICOM file is never read as raw voxels.
 Volume loadVolume(const std::string& path, const LoadOptions& options = {});
@@ -109,7 +110,8 @@ struct ValueHistogram {
     // one bin, (hi − lo)/bins (the lower edge of the bin reaching that rank; hi for p = 100).
     double percentile(double p) const;
 };
-ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins, bool activeOnly);
+ValueHistogram valueHistogram(const Volume& volume, double lo, double hi, int bins,
+                              bool activeOnly);
 // The histogram every percentile of Lobe is read from: 65 536 equal bins over [min, max] of the
 // stored values (after valueScale and any blur), every voxel of the box (or the active ones).
 // percentileHistogram(v).percentile(p) is the number `lobe info` prints for p % and what a

@@ -2,9 +2,10 @@
 // (volume/volume_file.h): the same conversion as a file's voxels (decodeVoxels: raw · slope +
 // inter in double, stored as float, non-finite values refused), read through the array's strides
 // so that any memory order (C or Fortran, a view) is taken as it is.
+#include "volume/volume_array.h"
+
 #include "core/error.h"
 #include "core/memory.h"
-#include "volume/volume_array.h"
 #include "volume/volume_file.h"
 
 #include <algorithm>
@@ -67,21 +68,37 @@ DenseVolume readArrayDense(const VolumeArray& a) {
     for (const auto& row : a.affine)
         for (double x : row)
             if (!std::isfinite(x)) throw Error(a.name + ": the affine holds a non-finite number");
-    checkFits(double(count) * sizeof(float), a.name + ": a float copy of its " +
-                                                 std::to_string(count) + " voxels");
+    checkFits(double(count) * sizeof(float),
+              a.name + ": a float copy of its " + std::to_string(count) + " voxels");
     DenseVolume v;
     v.dims = a.dims;
     v.affine = a.affine;
     v.values.resize(size_t(count));
     switch (a.type) {
-        case VoxelType::kUint8: convert<std::uint8_t>(a, v); break;
-        case VoxelType::kInt8: convert<std::int8_t>(a, v); break;
-        case VoxelType::kUint16: convert<std::uint16_t>(a, v); break;
-        case VoxelType::kInt16: convert<std::int16_t>(a, v); break;
-        case VoxelType::kUint32: convert<std::uint32_t>(a, v); break;
-        case VoxelType::kInt32: convert<std::int32_t>(a, v); break;
-        case VoxelType::kFloat32: convert<float>(a, v); break;
-        case VoxelType::kFloat64: convert<double>(a, v); break;
+        case VoxelType::kUint8:
+            convert<std::uint8_t>(a, v);
+            break;
+        case VoxelType::kInt8:
+            convert<std::int8_t>(a, v);
+            break;
+        case VoxelType::kUint16:
+            convert<std::uint16_t>(a, v);
+            break;
+        case VoxelType::kInt16:
+            convert<std::int16_t>(a, v);
+            break;
+        case VoxelType::kUint32:
+            convert<std::uint32_t>(a, v);
+            break;
+        case VoxelType::kInt32:
+            convert<std::int32_t>(a, v);
+            break;
+        case VoxelType::kFloat32:
+            convert<float>(a, v);
+            break;
+        case VoxelType::kFloat64:
+            convert<double>(a, v);
+            break;
     }
     return v;
 }

@@ -3,8 +3,8 @@
 #include "volume/volume_file.h"
 
 #include "core/error.h"
-#include "core/memory.h"
 #include "core/math.h"
+#include "core/memory.h"
 
 #include <zlib.h>
 
@@ -49,7 +49,8 @@ std::string dimsText(const std::array<int, 3>& d) {
 
 VoxelType parseVoxelType(const std::string& name) {
     const std::string n = lower(trim(name));
-    if (n == "uint8" || n == "uchar" || n == "unsigned char" || n == "uint8_t") return VoxelType::kUint8;
+    if (n == "uint8" || n == "uchar" || n == "unsigned char" || n == "uint8_t")
+        return VoxelType::kUint8;
     if (n == "int8" || n == "signed char" || n == "int8_t") return VoxelType::kInt8;
     if (n == "uint16" || n == "ushort" || n == "unsigned short" || n == "unsigned short int" ||
         n == "uint16_t")
@@ -57,7 +58,8 @@ VoxelType parseVoxelType(const std::string& name) {
     if (n == "int16" || n == "short" || n == "short int" || n == "signed short" ||
         n == "signed short int" || n == "int16_t")
         return VoxelType::kInt16;
-    if (n == "uint32" || n == "uint" || n == "unsigned int" || n == "uint32_t") return VoxelType::kUint32;
+    if (n == "uint32" || n == "uint" || n == "unsigned int" || n == "uint32_t")
+        return VoxelType::kUint32;
     if (n == "int32" || n == "int" || n == "signed int" || n == "int32_t") return VoxelType::kInt32;
     if (n == "float32" || n == "float") return VoxelType::kFloat32;
     if (n == "float64" || n == "double") return VoxelType::kFloat64;
@@ -67,14 +69,22 @@ VoxelType parseVoxelType(const std::string& name) {
 
 const char* voxelTypeName(VoxelType type) {
     switch (type) {
-        case VoxelType::kUint8: return "uint8";
-        case VoxelType::kInt8: return "int8";
-        case VoxelType::kUint16: return "uint16";
-        case VoxelType::kInt16: return "int16";
-        case VoxelType::kUint32: return "uint32";
-        case VoxelType::kInt32: return "int32";
-        case VoxelType::kFloat32: return "float32";
-        case VoxelType::kFloat64: return "float64";
+        case VoxelType::kUint8:
+            return "uint8";
+        case VoxelType::kInt8:
+            return "int8";
+        case VoxelType::kUint16:
+            return "uint16";
+        case VoxelType::kInt16:
+            return "int16";
+        case VoxelType::kUint32:
+            return "uint32";
+        case VoxelType::kInt32:
+            return "int32";
+        case VoxelType::kFloat32:
+            return "float32";
+        case VoxelType::kFloat64:
+            return "float64";
     }
     return "?";
 }
@@ -82,13 +92,17 @@ const char* voxelTypeName(VoxelType type) {
 int voxelTypeSize(VoxelType type) {
     switch (type) {
         case VoxelType::kUint8:
-        case VoxelType::kInt8: return 1;
+        case VoxelType::kInt8:
+            return 1;
         case VoxelType::kUint16:
-        case VoxelType::kInt16: return 2;
+        case VoxelType::kInt16:
+            return 2;
         case VoxelType::kUint32:
         case VoxelType::kInt32:
-        case VoxelType::kFloat32: return 4;
-        case VoxelType::kFloat64: return 8;
+        case VoxelType::kFloat32:
+            return 4;
+        case VoxelType::kFloat64:
+            return 8;
     }
     return 1;
 }
@@ -149,7 +163,8 @@ LoadOptions parseLoadOptions(const VolumeOptionText& text) {
                 throw Error(std::string("--endian: ") + e.what());
             }
         } else if (voxelTypeSize(o.layout.type) > 1)
-            throw Error("--type " + text.type + " has more than one byte per voxel: give "
+            throw Error("--type " + text.type +
+                        " has more than one byte per voxel: give "
                         "--endian little or --endian big");
         if (!text.spacing.empty()) {
             o.layout.spacing = parseTriple(text.spacing, "--spacing");
@@ -190,8 +205,7 @@ LoadOptions parseLoadOptions(const VolumeOptionText& text) {
 namespace detail {
 
 bool endsWith(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() &&
-           lower(s.substr(s.size() - suffix.size())) == lower(suffix);
+    return s.size() >= suffix.size() && lower(s.substr(s.size() - suffix.size())) == lower(suffix);
 }
 
 std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip, size_t maxBytes,
@@ -202,7 +216,9 @@ std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip, siz
         probe.seekg(0, std::ios::end);
         std::streamoff size = probe.tellg();
         probe.seekg(0, std::ios::beg);
-        if (prefix) size = std::min<std::streamoff>(size, std::streamoff(std::min<size_t>(maxBytes, 1ull << 62)));
+        if (prefix)
+            size = std::min<std::streamoff>(size,
+                                            std::streamoff(std::min<size_t>(maxBytes, 1ull << 62)));
         checkFits(double(size), path);
         std::vector<unsigned char> bytes(static_cast<size_t>(std::max<std::streamoff>(size, 0)));
         if (!bytes.empty() &&
@@ -215,8 +231,9 @@ std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip, siz
     unsigned char magic[2] = {0, 0};
     probe.read(reinterpret_cast<char*>(magic), 2);
     if (probe.gcount() < 2 || magic[0] != 0x1f || magic[1] != 0x8b)
-        throw Error(path + ": not a gzip file (the name ends in .gz but the gzip magic 1f 8b is "
-                           "missing)");
+        throw Error(path +
+                    ": not a gzip file (the name ends in .gz but the gzip magic 1f 8b is "
+                    "missing)");
     probe.close();
 
     gzFile file = gzopen(path.c_str(), "rb");
@@ -238,8 +255,11 @@ std::vector<unsigned char> readFileBytes(const std::string& path, bool gzip, siz
         if (bytes.size() > maxBytes) {
             gzclose(file);
             if (!prefix)
-                throw Error(path + ": the " + what + " contradicts the data size: the gzip data goes "
-                            "on past the " + std::to_string(maxBytes) + " bytes it describes "
+                throw Error(path + ": the " + what +
+                            " contradicts the data size: the gzip data goes "
+                            "on past the " +
+                            std::to_string(maxBytes) +
+                            " bytes it describes "
                             "(stopped inflating there)");
             bytes.resize(maxBytes);
             return bytes;
@@ -263,14 +283,22 @@ T loadSwapped(const unsigned char* p, bool swap) {
 
 double loadVoxel(const unsigned char* p, VoxelType type, bool swap) {
     switch (type) {
-        case VoxelType::kUint8: return *p;
-        case VoxelType::kInt8: return static_cast<signed char>(*p);
-        case VoxelType::kUint16: return loadSwapped<std::uint16_t>(p, swap);
-        case VoxelType::kInt16: return loadSwapped<std::int16_t>(p, swap);
-        case VoxelType::kUint32: return loadSwapped<std::uint32_t>(p, swap);
-        case VoxelType::kInt32: return loadSwapped<std::int32_t>(p, swap);
-        case VoxelType::kFloat32: return loadSwapped<float>(p, swap);
-        case VoxelType::kFloat64: return loadSwapped<double>(p, swap);
+        case VoxelType::kUint8:
+            return *p;
+        case VoxelType::kInt8:
+            return static_cast<signed char>(*p);
+        case VoxelType::kUint16:
+            return loadSwapped<std::uint16_t>(p, swap);
+        case VoxelType::kInt16:
+            return loadSwapped<std::int16_t>(p, swap);
+        case VoxelType::kUint32:
+            return loadSwapped<std::uint32_t>(p, swap);
+        case VoxelType::kInt32:
+            return loadSwapped<std::int32_t>(p, swap);
+        case VoxelType::kFloat32:
+            return loadSwapped<float>(p, swap);
+        case VoxelType::kFloat64:
+            return loadSwapped<double>(p, swap);
     }
     return 0.0;
 }
@@ -326,7 +354,10 @@ DenseVolume decodeVoxels(const std::string& path, const std::vector<unsigned cha
             const std::int64_t i = n % dims[0], j = (n / dims[0]) % dims[1],
                                k = n / (std::int64_t(dims[0]) * dims[1]);
             throw Error(path + ": voxel (" + std::to_string(i) + ", " + std::to_string(j) + ", " +
-                        std::to_string(k) + ") is " + (std::isnan(raw) ? "NaN" : std::isinf(raw) ? "infinite" : "outside the float range") +
+                        std::to_string(k) + ") is " +
+                        (std::isnan(raw)   ? "NaN"
+                         : std::isinf(raw) ? "infinite"
+                                           : "outside the float range") +
                         "; volumes must hold finite values");
         }
         v.values[static_cast<size_t>(n)] = stored;
@@ -350,12 +381,12 @@ DenseVolume readRawDense(const std::string& path, const RawLayout& layout) {
         if (!(layout.spacing[a] > 0.0) || !std::isfinite(layout.spacing[a]))
             throw Error(path + ": the layout's spacing must be three positive numbers");
     if (layout.offset < 0) throw Error(path + ": the layout's byte offset is negative");
-    const std::vector<unsigned char> bytes =
-        readFileBytes(path, layout.gzip, dataEnd(layout.offset, layout.dims, layout.type), "layout");
+    const std::vector<unsigned char> bytes = readFileBytes(
+        path, layout.gzip, dataEnd(layout.offset, layout.dims, layout.type), "layout");
     DenseVolume v = decodeVoxels(path, bytes, layout.offset, layout.dims, layout.type,
                                  layout.endian, 1.0, 0.0, "layout");
-    v.affine = {{{layout.spacing[0], 0, 0, 0}, {0, layout.spacing[1], 0, 0},
-                 {0, 0, layout.spacing[2], 0}}};
+    v.affine = {
+        {{layout.spacing[0], 0, 0, 0}, {0, layout.spacing[1], 0, 0}, {0, 0, layout.spacing[2], 0}}};
     return v;
 }
 
@@ -364,8 +395,8 @@ DenseVolume readRawDense(const std::string& path, const RawLayout& layout) {
 // Working Group, 2004; https://nifti.nimh.nih.gov/pub/dist/src/niftilib/nifti1.h):
 //   0 sizeof_hdr (int32, 348)      40 dim[8] (int16)        70 datatype (int16)  72 bitpix
 //   76 pixdim[8] (float)           108 vox_offset (float)   112 scl_slope        116 scl_inter
-//   252 qform_code (int16)         254 sform_code (int16)   256 quatern_b, c, d  268 qoffset_x, y, z
-//   280 srow_x[4], 296 srow_y[4], 312 srow_z[4] (float)     344 magic "n+1\0" (single file)
+//   252 qform_code (int16)         254 sform_code (int16)   256 quatern_b, c, d  268 qoffset_x, y,
+//   z 280 srow_x[4], 296 srow_y[4], 312 srow_z[4] (float)     344 magic "n+1\0" (single file)
 // The byte order is whatever makes sizeof_hdr read 348 (nifti1.h, "byte ordering").
 namespace {
 
@@ -404,15 +435,32 @@ size_t niftiFileBytes(const std::vector<unsigned char>& head) {
 
 bool niftiType(int code, VoxelType& type) {
     switch (code) {  // nifti1.h, NIFTI_TYPE_* codes
-        case 2: type = VoxelType::kUint8; return true;
-        case 4: type = VoxelType::kInt16; return true;
-        case 8: type = VoxelType::kInt32; return true;
-        case 16: type = VoxelType::kFloat32; return true;
-        case 64: type = VoxelType::kFloat64; return true;
-        case 256: type = VoxelType::kInt8; return true;
-        case 512: type = VoxelType::kUint16; return true;
-        case 768: type = VoxelType::kUint32; return true;
-        default: return false;
+        case 2:
+            type = VoxelType::kUint8;
+            return true;
+        case 4:
+            type = VoxelType::kInt16;
+            return true;
+        case 8:
+            type = VoxelType::kInt32;
+            return true;
+        case 16:
+            type = VoxelType::kFloat32;
+            return true;
+        case 64:
+            type = VoxelType::kFloat64;
+            return true;
+        case 256:
+            type = VoxelType::kInt8;
+            return true;
+        case 512:
+            type = VoxelType::kUint16;
+            return true;
+        case 768:
+            type = VoxelType::kUint32;
+            return true;
+        default:
+            return false;
     }
 }
 
@@ -422,8 +470,9 @@ void checkHeaderAffine(const std::string& path, const decltype(DenseVolume::affi
         for (double x : row)
             if (!std::isfinite(x)) throw Error(path + ": the header's orientation is not finite");
     if (nearlySingular(affine))
-        throw Error(path + ": the header's voxel-to-world map is singular or nearly so (a zero "
-                           "voxel size, or axes almost parallel)");
+        throw Error(path +
+                    ": the header's voxel-to-world map is singular or nearly so (a zero "
+                    "voxel size, or axes almost parallel)");
 }
 
 }  // namespace
@@ -432,7 +481,8 @@ DenseVolume readNiftiDense(const std::string& path) {
     const bool gz = endsWith(path, ".gz");
     // The header first, then no more data than it describes (a gzip bomb stops there).
     const std::vector<unsigned char> head = readFileBytes(path, gz, 352, "header", true);
-    const std::vector<unsigned char> bytes = readFileBytes(path, gz, niftiFileBytes(head), "header");
+    const std::vector<unsigned char> bytes =
+        readFileBytes(path, gz, niftiFileBytes(head), "header");
     if (bytes.size() < 348)
         throw Error(path + ": truncated: " + std::to_string(bytes.size()) +
                     " bytes, shorter than the 348-byte NIfTI-1 header");
@@ -444,15 +494,18 @@ DenseVolume readNiftiDense(const std::string& path) {
         swap = true;
         if (loadSwapped<std::int32_t>(h, true) != 348) {
             if (sizeofHdr == 540 || loadSwapped<std::int32_t>(h, true) == 540)
-                throw Error(path + ": NIfTI-2 files are not supported (sizeof_hdr 540); "
-                                   "convert to NIfTI-1");
-            throw Error(path + ": not a NIfTI-1 file (sizeof_hdr is neither 348 nor 348 "
-                               "byte-swapped)");
+                throw Error(path +
+                            ": NIfTI-2 files are not supported (sizeof_hdr 540); "
+                            "convert to NIfTI-1");
+            throw Error(path +
+                        ": not a NIfTI-1 file (sizeof_hdr is neither 348 nor 348 "
+                        "byte-swapped)");
         }
     }
     if (std::memcmp(h + 344, "ni1\0", 4) == 0)
-        throw Error(path + ": two-file NIfTI (.hdr/.img, magic 'ni1') is not supported; use a "
-                           "single .nii file");
+        throw Error(path +
+                    ": two-file NIfTI (.hdr/.img, magic 'ni1') is not supported; use a "
+                    "single .nii file");
     if (std::memcmp(h + 344, "n+1\0", 4) != 0)
         throw Error(path + ": wrong magic: expected 'n+1' at byte 344 of a NIfTI-1 header");
     const HeaderReader r(h, swap);
@@ -514,9 +567,10 @@ DenseVolume readNiftiDense(const std::string& path) {
         double a = 1.0 - (b * b + c * c + d * d);
         a = a > 1e-7 ? std::sqrt(a) : 0.0;  // nifti1_io.c: a slightly negative a² means a = 0
         const double qfac = pixdim[0] < 0.0 ? -1.0 : 1.0;
-        const double R[3][3] = {{a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)},
-                                {2 * (b * c + a * d), a * a + c * c - b * b - d * d, 2 * (c * d - a * b)},
-                                {2 * (b * d - a * c), 2 * (c * d + a * b), a * a + d * d - c * c - b * b}};
+        const double R[3][3] = {
+            {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)},
+            {2 * (b * c + a * d), a * a + c * c - b * b - d * d, 2 * (c * d - a * b)},
+            {2 * (b * d - a * c), 2 * (c * d + a * b), a * a + d * d - c * c - b * b}};
         const double scale[3] = {pixdim[1], pixdim[2], qfac * pixdim[3]};
         for (int row = 0; row < 3; ++row) {
             for (int col = 0; col < 3; ++col) v.affine[row][col] = R[row][col] * scale[col];
@@ -552,11 +606,13 @@ DenseVolume readMghDense(const std::string& path) {
         unsigned char magic[2] = {0, 0};
         probe.read(reinterpret_cast<char*>(magic), 2);
         if (probe.gcount() < 2 || magic[0] != 0x1f || magic[1] != 0x8b)
-            throw Error(path + ": not a gzip-compressed FreeSurfer volume: the name says .mgz but "
-                               "the gzip magic 1f 8b is missing (an uncompressed MGH file is "
-                               "named .mgh)");
+            throw Error(path +
+                        ": not a gzip-compressed FreeSurfer volume: the name says .mgz but "
+                        "the gzip magic 1f 8b is missing (an uncompressed MGH file is "
+                        "named .mgh)");
     }
-    const std::vector<unsigned char> head = readFileBytes(path, gz, size_t(kDataOffset), "header", true);
+    const std::vector<unsigned char> head =
+        readFileBytes(path, gz, size_t(kDataOffset), "header", true);
     if (head.size() < size_t(kDataOffset))
         throw Error(path + ": truncated: " + std::to_string(head.size()) +
                     " bytes, shorter than the 284-byte FreeSurfer MGH header");
@@ -572,10 +628,18 @@ DenseVolume readMghDense(const std::string& path) {
     const int code = r.i32(20);
     VoxelType type;
     switch (code) {
-        case 0: type = VoxelType::kUint8; break;
-        case 1: type = VoxelType::kInt32; break;
-        case 3: type = VoxelType::kFloat32; break;
-        case 4: type = VoxelType::kInt16; break;
+        case 0:
+            type = VoxelType::kUint8;
+            break;
+        case 1:
+            type = VoxelType::kInt32;
+            break;
+        case 3:
+            type = VoxelType::kFloat32;
+            break;
+        case 4:
+            type = VoxelType::kInt16;
+            break;
         default:
             throw Error(path + ": unknown or unsupported MGH data type " + std::to_string(code) +
                         " (supported: 0 uchar, 1 int, 3 float, 4 short)");
@@ -583,8 +647,8 @@ DenseVolume readMghDense(const std::string& path) {
     const size_t end = dataEnd(kDataOffset, dims, type);
     std::vector<unsigned char> bytes = readFileBytes(path, gz, end, "header", true);
     if (bytes.size() > end) bytes.resize(end);  // the footer
-    DenseVolume v = decodeVoxels(path, bytes, kDataOffset, dims, type, Endian::kBig, 1.0, 0.0,
-                                 "header");
+    DenseVolume v =
+        decodeVoxels(path, bytes, kDataOffset, dims, type, Endian::kBig, 1.0, 0.0, "header");
     double delta[3] = {1, 1, 1}, mdc[3][3] = {{-1, 0, 0}, {0, 0, 1}, {0, -1, 0}}, c[3] = {0, 0, 0};
     if (r.i16(28) != 0) {
         for (int a = 0; a < 3; ++a) delta[a] = r.f32(30 + 4 * a);
@@ -678,8 +742,7 @@ DenseVolume readNrrdDense(const std::string& path) {
                 throw Error(where + ": expected a byte count ≥ 0, got '" + value + "'");
         } else if (key == "line skip" || key == "lineskip") {
             int skip = 0;
-            if (!(vs >> skip) || skip != 0)
-                throw Error(where + ": line skip is not supported");
+            if (!(vs >> skip) || skip != 0) throw Error(where + ": line skip is not supported");
         } else if (key == "space directions") {
             std::istringstream ds(value);
             for (int a = 0; a < 3; ++a) {
@@ -723,12 +786,12 @@ DenseVolume readNrrdDense(const std::string& path) {
     }
     const std::vector<unsigned char> bytes =
         readFileBytes(dataPath, gzip, dataEnd(byteSkip, sizes, type), "header " + path);
-    DenseVolume v = decodeVoxels(dataPath, bytes, byteSkip, sizes, type, endian, 1.0, 0.0,
-                                 "header " + path);
+    DenseVolume v =
+        decodeVoxels(dataPath, bytes, byteSkip, sizes, type, endian, 1.0, 0.0, "header " + path);
     for (int row = 0; row < 3; ++row) {
         for (int col = 0; col < 3; ++col)
-            v.affine[row][col] = haveDirections ? directions[col][row]
-                                                : (row == col ? spacings[col] : 0.0);
+            v.affine[row][col] =
+                haveDirections ? directions[col][row] : (row == col ? spacings[col] : 0.0);
         v.affine[row][3] = origin[row];
     }
     return v;

@@ -41,7 +41,7 @@ DenseVolume decodeVoxels(const std::string& path, const std::vector<unsigned cha
 DenseVolume readRawDense(const std::string& path, const RawLayout& layout);
 DenseVolume readNiftiDense(const std::string& path);
 DenseVolume readNrrdDense(const std::string& path);
-DenseVolume readMghDense(const std::string& path);  // FreeSurfer .mgh / .mgz
+DenseVolume readMghDense(const std::string& path);     // FreeSurfer .mgh / .mgz
 DenseVolume readArrayDense(const VolumeArray& array);  // volume/volume_array.cpp
 
 bool endsWith(const std::string& s, const std::string& suffix);  // case-insensitive

@@ -32,15 +32,16 @@ struct RawLayout {
 struct LoadOptions {
     bool hasLayout = false;  // raw files need one; header formats ignore it
     RawLayout layout;
-    double scale = 1.0;      // stored = original · scale
-    double normalize = 0.0;  // if > 0: scale = 1/normalize (takes precedence over scale)
+    double scale = 1.0;           // stored = original · scale
+    double normalize = 0.0;       // if > 0: scale = 1/normalize (takes precedence over scale)
     bool normalizeByMax = false;  // scale = 1/(max of the original values)
     // If > 0: scale = 1/(this percentile of the original values over every voxel, as `lobe info`
     // prints it: nearest rank over 65 536 bins of the value range).
     double normalizePercentile = 0.0;
-    double background = 0.0;  // original units (before scale): voxels ≤ this are inactive (volume.h)
-    std::string gridName;         // .vdb: which grid (empty: the first float grid)
-    std::string series;           // DICOM: the SeriesInstanceUID (empty: the only series)
+    double background =
+        0.0;               // original units (before scale): voxels ≤ this are inactive (volume.h)
+    std::string gridName;  // .vdb: which grid (empty: the first float grid)
+    std::string series;    // DICOM: the SeriesInstanceUID (empty: the only series)
 };
 
 // The volume options of the command line as typed (empty string: not given), turned into

@@ -1,12 +1,12 @@
 #include "volume/volume_marcher.h"
 
+#include "core/error.h"
+#include "core/memory.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-
-#include "core/error.h"
-#include "core/memory.h"
 
 namespace lobe {
 
@@ -30,7 +30,8 @@ void bsplineCellRange(const std::vector<float>& foot, int fp, int x, int y, int 
     double q[4][4][4];  // [z][y][x]
     for (int c = 0; c < 4; ++c)
         for (int b = 0; b < 4; ++b)
-            for (int a = 0; a < 4; ++a) q[c][b][a] = foot[(size_t(z + c) * fp + (y + b)) * fp + (x + a)];
+            for (int a = 0; a < 4; ++a)
+                q[c][b][a] = foot[(size_t(z + c) * fp + (y + b)) * fp + (x + a)];
     auto toBezier = [](double& p0, double& p1, double& p2, double& p3) {
         const double b0 = (p0 + 4.0 * p1 + p2) / 6.0, b1 = (2.0 * p1 + p2) / 3.0,
                      b2 = (p1 + 2.0 * p2) / 3.0, b3 = (p1 + 4.0 * p2 + p3) / 6.0;
@@ -97,7 +98,8 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                              std::to_string(int64_t(hi.y()) - lo.y() - 3) + " x " +
                              std::to_string(int64_t(hi.z()) - lo.z() - 3) + " voxels";
     if (bricks > double(1 << 28))
-        throw Error(name + ": the active voxels span " + span + ", more than volume rendering "
+        throw Error(name + ": the active voxels span " + span +
+                    ", more than volume rendering "
                     "handles (2580³); crop the grid to the data, or prune stray active voxels");
     checkFits(bricks * double(1 + 8 * ((b * b * b + 63) / 64)),
               name + ": the empty-space table of an active box of " + span);
@@ -108,8 +110,8 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     // Only where it is cheap beside the machine's memory (an eighth at most): otherwise the
     // samplers read the tree, as fast as before the copy existed.
     const double memory = memoryBudget().bytes;
-    const double budget = memory > 0.0 ? std::min(DenseField::kMaxBytes, memory / 8.0)
-                                       : DenseField::kMaxBytes;
+    const double budget =
+        memory > 0.0 ? std::min(DenseField::kMaxBytes, memory / 8.0) : DenseField::kMaxBytes;
     if (4.0 * double(dd.x()) * double(dd.y()) * double(dd.z()) <= budget)
         dense_ = std::make_shared<const DenseField>(*grid_, denseBox);
     for (int a = 0; a < 3; ++a) {
@@ -132,8 +134,8 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
         std::vector<float> rangeX(2 * size_t(fp) * fp * b), rangeY(2 * size_t(fp) * b * b);
         // Whether every value in [lo, hi] (widened by a rounding margin) is transparent.
         auto transparent = [&](double lo, double hi) {
-            const double m = kRangeMargin * std::max(1.0, std::max(std::abs(double(lo)),
-                                                                   std::abs(double(hi))));
+            const double m =
+                kRangeMargin * std::max(1.0, std::max(std::abs(double(lo)), std::abs(double(hi))));
             return tf_.isTransparent(lo - m, hi + m);
         };
         for (int by = 0; by < brickCount_[1]; ++by)
@@ -147,7 +149,8 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                             const float v = dense_ && dense_->holds(x, y, z, 1)
                                                 ? *dense_->at(x, y, z)
                                                 : acc.getValue(openvdb::Coord(x, y, z));
-                            foot[(size_t(z - z0 + kSupportBelow) * fp + (y - y0 + kSupportBelow)) * fp +
+                            foot[(size_t(z - z0 + kSupportBelow) * fp + (y - y0 + kSupportBelow)) *
+                                     fp +
                                  (x - x0 + kSupportBelow)] = v;
                             vmin = std::min(vmin, v);
                             vmax = std::max(vmax, v);
@@ -157,7 +160,8 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                 if (brickTransparent_[i]) continue;
                 // Cell level: min/max over each cell's support window, separably (along x, then
                 // y, then z) on the footprint: (min, max) pairs shrink fp³ → fp²·b → fp·b² → b³.
-                const int o = supportLo + kSupportBelow;  // first footprint index of cell 0's window
+                const int o =
+                    supportLo + kSupportBelow;  // first footprint index of cell 0's window
                 auto window = [&](auto read, int c, float& lo, float& hi) {
                     lo = std::numeric_limits<float>::infinity();
                     hi = -lo;
@@ -230,7 +234,8 @@ void DvrVolume::computeClearance() {
     // A pass visits bricks in one raster order and relaxes each from its 13 neighbours already
     // visited in that order (sign = +1: those before it, −1: those after it).
     auto pass = [&](int sign) {
-        const int z0 = sign > 0 ? 0 : nz - 1, y0 = sign > 0 ? 0 : ny - 1, x0 = sign > 0 ? 0 : nx - 1;
+        const int z0 = sign > 0 ? 0 : nz - 1, y0 = sign > 0 ? 0 : ny - 1,
+                  x0 = sign > 0 ? 0 : nx - 1;
         for (int z = z0; z >= 0 && z < nz; z += sign)
             for (int y = y0; y >= 0 && y < ny; y += sign)
                 for (int x = x0; x >= 0 && x < nx; x += sign) {
@@ -242,7 +247,8 @@ void DvrVolume::computeClearance() {
                             for (int dx = -1; dx <= 1; ++dx) {
                                 // The 13 neighbours that precede (x, y, z) in this pass's order.
                                 if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                                const int qx = x + sign * dx, qy = y + sign * dy, qz = z + sign * dz;
+                                const int qx = x + sign * dx, qy = y + sign * dy,
+                                          qz = z + sign * dz;
                                 if (qx < 0 || qy < 0 || qz < 0 || qx >= nx || qy >= ny || qz >= nz)
                                     continue;
                                 best = std::min(best, at(qx, qy, qz) + 1);
@@ -393,8 +399,9 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                     continue;
                 }
                 skippable = true;
-            } else if (inside && (v.cellTransparent_[idx * size_t(v.cellWords_) + (bit >> 6)] >>
-                                      (bit & 63) & 1)) {
+            } else if (inside &&
+                       (v.cellTransparent_[idx * size_t(v.cellWords_) + (bit >> 6)] >> (bit & 63) &
+                        1)) {
                 // Cell level, inside the brick: past the cell's box (a cell holds ~1 / step
                 // lattice points along a ray: 20 at the paper's step). At coarse steps a cell
                 // holds one or two points, and one step is cheaper than computing the jump.

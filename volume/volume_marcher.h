@@ -65,12 +65,6 @@
 // BRDF-shaded (render/shading.h lights them with the Lambertian term and cos θ = 1).
 #pragma once
 
-#include <array>
-#include <limits>
-#include <memory>
-#include <string>
-#include <vector>
-
 #include "core/clip.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
@@ -78,6 +72,12 @@
 #include "volume/reconstruction.h"
 #include "volume/transfer_function.h"
 #include "volume/volume_mask.h"
+
+#include <array>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -102,12 +102,12 @@ struct DvrSettings {
 };
 
 struct VolumeSample {
-    double t = 0.0;        // ray parameter
-    Vec3 position{0.0};    // world
+    double t = 0.0;           // ray parameter
+    Vec3 position{0.0};       // world
     Vec3 indexPosition{0.0};  // the same point in the grid's index space (for addNormal)
-    double value = 0.0;    // reconstructed data value
-    Vec3 gradient{0.0};    // world-space gradient of the value
-    Vec3 normal{0, 0, 1};  // −gradient / |gradient|, valid when hasNormal
+    double value = 0.0;       // reconstructed data value
+    Vec3 gradient{0.0};       // world-space gradient of the value
+    Vec3 normal{0, 0, 1};     // −gradient / |gradient|, valid when hasNormal
     bool hasNormal = false;
     double alpha = 0.0;    // opacity of this step, already corrected (header)
     Spectrum colour{0.0};  // transfer-function colour
@@ -136,7 +136,9 @@ public:
     // The brick table (header, "Empty-space skipping"): bricks per axis, and a brick's
     // clearance — 0 when a sample in it may be visible, else c ≥ 1 such that the cube of
     // (2c − 1)³ bricks centred on it is transparent (at most 64).
-    std::array<int, 3> brickCounts() const { return {brickCount_[0], brickCount_[1], brickCount_[2]}; }
+    std::array<int, 3> brickCounts() const {
+        return {brickCount_[0], brickCount_[1], brickCount_[2]};
+    }
     int brickClearance(int bx, int by, int bz) const {
         return brickTransparent_[(size_t(bz) * brickCount_[1] + by) * brickCount_[0] + bx];
     }
@@ -150,10 +152,10 @@ private:
     bool empty_ = true;
     std::shared_ptr<const DenseField> dense_;
     std::shared_ptr<const PreIntegratedTf> pre_;  // when settings_.preIntegrated
-    Vec3 domainLo_{0.0}, domainHi_{0.0};  // index space, continuous
-    int brickLo_[3] = {0, 0, 0};          // index of brick (0,0,0)'s first voxel
+    Vec3 domainLo_{0.0}, domainHi_{0.0};          // index space, continuous
+    int brickLo_[3] = {0, 0, 0};                  // index of brick (0,0,0)'s first voxel
     int brickCount_[3] = {0, 0, 0};
-    int brickShift_ = 0;                  // log2 of the brick size
+    int brickShift_ = 0;  // log2 of the brick size
     // Per brick: 0 when some sample in it may be visible, else its clearance c ≥ 1 — the cube of
     // (2c − 1)³ bricks centred on it is transparent (brickClearance), so a ray jumps past it.
     std::vector<unsigned char> brickTransparent_;
@@ -222,11 +224,11 @@ private:
     GridReconstructor recon_;
     Vec3 oIdx_{0.0}, dIdx_{0.0};
     double tEnter_ = 0.0, tExit_ = -1.0, dt_ = 1.0, jitter_ = 0.0;
-    double stepVoxels_ = 0.05;  // this ray's step in voxels (the volume's × stepScale)
+    double stepVoxels_ = 0.05;     // this ray's step in voxels (the volume's × stepScale)
     bool rayPolynomial_ = false;   // B-spline values from the ray's polynomial per cell
     double stepRefLengths_ = 1.0;  // world length of one step / ℓ_ref: the opacity exponent
     double invDIdx_[3] = {0, 0, 0}, invDt_ = 1.0;  // 1 / dIdx_ (0 where dIdx_ is 0), 1 / dt_
-    double kLast_ = -1.0;          // the last lattice index inside the domain (t ≤ tExit)
+    double kLast_ = -1.0;  // the last lattice index inside the domain (t ≤ tExit)
     double lastAlphaVoxel_ = -1.0, lastAlpha_ = 0.0;
     // Pre-integration: the last evaluated lattice point, its value, and whether it lay in a
     // transparent brick or cell.

@@ -30,9 +30,9 @@ struct VolumeSummary {
     static constexpr std::array<double, 5> kPercents{1, 5, 50, 95, 99};
     std::array<double, 5> percentilesAll{}, percentilesActive{};
     struct Histogram {
-        double lo = 0.0, hi = 0.0;            // equal bins over [lo, hi]
-        std::vector<std::int64_t> counts;     // voxels per bin, every voxel of the box
-    } histogram;                               // empty unless asked for
+        double lo = 0.0, hi = 0.0;         // equal bins over [lo, hi]
+        std::vector<std::int64_t> counts;  // voxels per bin, every voxel of the box
+    } histogram;                           // empty unless asked for
 };
 
 // Loads the file (loadVolume), blurs it by blurFwhm (world units, as a scene's

@@ -3,7 +3,6 @@
 // sRGB primaries against the widely tabulated values.
 #include "analysis/colour.h"
 #include "analysis/separation.h"
-
 #include "core/error.h"
 
 #include <gtest/gtest.h>
@@ -19,11 +18,13 @@ namespace {
 //      P = [[x/y …], [1 …], [(1−x−y)/y …]], S = P⁻¹ · W, M_rgb→xyz = P · diag(S);
 //      M = M2020⁻¹ · M709  (BT.709 (0.64,0.33) (0.30,0.60) (0.15,0.06); BT.2020 (0.708,0.292)
 //      (0.170,0.797) (0.131,0.046); D65 (0.3127,0.3290)). It prints
-//      [0.6274039 0.3292830 0.0433131; 0.0690973 0.9195404 0.0113623; 0.0163914 0.0880133 0.8955953].
+//      [0.6274039 0.3292830 0.0433131; 0.0690973 0.9195404 0.0113623; 0.0163914 0.0880133
+//      0.8955953].
 //   2. rgb2020 × peak / 10000; LMS = [[1688,2146,262],[683,2951,462],[99,309,3688]] / 4096 · rgb.
 //   3. PQ: ((c1 + c2·Y^m1)/(1 + c3·Y^m1))^m2, m1 = 2610/16384, m2 = 2523/4096·128,
 //      c1 = 3424/4096, c2 = 2413/4096·32, c3 = 2392/4096·32.
-//   4. I = (L'+M')/2, Ct = (6610 L' − 13613 M' + 7003 S')/4096, Cp = (17933 L' − 17390 M' − 543 S')/4096.
+//   4. I = (L'+M')/2, Ct = (6610 L' − 13613 M' + 7003 S')/4096, Cp = (17933 L' − 17390 M' − 543
+//   S')/4096.
 //   5. ΔE = 720·√(ΔI² + (ΔCt/2)² + ΔCp²).
 // Output: I of white at 100 cd/m² 0.5080784215 (Ct = Cp = 0); ΔE for the pairs below.
 struct ItpCase {
@@ -91,7 +92,8 @@ TEST(Colour, ItpMetricScoresHighlightsByTheirDetectionMaps) {
     for (int i = 20; i < 25; ++i)
         for (int c = 0; c < 3; ++c) l.specular[1][size_t(3 * i + c)] = 0.5f;
     const SeparationReport r = measureSeparation(l, kItpThreshold, SeparationMetric::Itp);
-    const double d = deltaEItp(srgbToIctcp({0.7f, 0.7f, 0.7f}, 100.0), srgbToIctcp({0.2f, 0.2f, 0.2f}, 100.0));
+    const double d =
+        deltaEItp(srgbToIctcp({0.7f, 0.7f, 0.7f}, 100.0), srgbToIctcp({0.2f, 0.2f, 0.2f}, 100.0));
     EXPECT_GT(d, 10.0);
     EXPECT_NEAR(r.pairs[0].metric.eSum, d, 1e-6 * d);  // the layers are floats
     EXPECT_NEAR(r.score, d, 1e-6 * d);

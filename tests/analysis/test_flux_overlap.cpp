@@ -2,7 +2,6 @@
 // exercise every branch: A only, B only, both with Φa > Φb and Φb > Φa, both equal, below the
 // threshold, and an empty area.
 #include "analysis/flux_overlap.h"
-
 #include "core/error.h"
 
 #include <gtest/gtest.h>
@@ -67,7 +66,7 @@ TEST(FluxOverlap, EmptyAreaGivesZero) {
     const FluxOverlap r = fluxOverlap(kA.data(), zeros.data(), kA.size(), 0.1);
     EXPECT_EQ(r.areaB, 0);
     EXPECT_NEAR(r.OA, 0.5 + 0.8 + 0.3 + 0.7, 1e-6);  // all of A's lobe is uncovered ...
-    EXPECT_EQ(r.eSum, 0.0);                           // ... but there is no B to compare with
+    EXPECT_EQ(r.eSum, 0.0);                          // ... but there is no B to compare with
     EXPECT_EQ(r.eMse, 0.0);
 }
 

@@ -1,10 +1,9 @@
 // Implicit primitives: hit points against closed forms (sphere: quadratic; torus: rays in its
 // plane and parallel to its axis; superquadric: rays along an axis and the diagonal), thin grazing
 // silhouettes, and random camera rays against a dense sampling of F along the ray.
-#include "surface/implicit_primitives.h"
-
 #include "core/error.h"
 #include "core/rng.h"
+#include "surface/implicit_primitives.h"
 
 #include <gtest/gtest.h>
 
@@ -191,7 +190,9 @@ TEST(ImplicitPrimitives, SilhouettesFoundByBisectionAreConsistent) {
         for (int k = 0; k < 12; ++k) {
             const double phi = 2.0 * kPi * (k + 0.37) / 12.0;
             const Vec3 dir(std::cos(phi), std::sin(phi), 0.0);
-            const auto rayAt = [&](double s) { return makeRay(Vec3(0, 0, 4), dir * s + Vec3(0, 0, -1)); };
+            const auto rayAt = [&](double s) {
+                return makeRay(Vec3(0, 0, 4), dir * s + Vec3(0, 0, -1));
+            };
             ImplicitHit hit;
             double lo = 0.0, hi = 0.364;  // the outer silhouette: last hit going outwards
             if (!prim.intersect(rayAt(hi), hit)) {

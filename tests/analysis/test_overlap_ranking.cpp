@@ -1,8 +1,7 @@
 // The flux-overlap standard test: a hand-computed pixel, determinism over thread counts, the
 // ranking with ties, Kendall's tau, input validation, and the report files.
-#include "analysis/overlap_report.h"
 #include "analysis/overlap_ranking.h"
-
+#include "analysis/overlap_report.h"
 #include "core/error.h"
 #include "materials/registry.h"
 
@@ -39,15 +38,14 @@ TEST(StandardTest, CentrePixelOfTheSphereUnderLambertMatchesHandComputation) {
     o.samplesPerPixel = 16;
     o.models = {"lambert", "phong"};
     const LatticeSet set = renderStandardLattices(o);
-    const double expected = 0.2 / kPi *
-                            (2.0 / std::pow(22.0, 1.5) + 2.0 / std::pow(17.0, 1.5) +
-                             1.5 / std::pow(11.25, 1.5));
+    const double expected =
+        0.2 / kPi *
+        (2.0 / std::pow(22.0, 1.5) + 2.0 / std::pow(17.0, 1.5) + 1.5 / std::pow(11.25, 1.5));
     const size_t centre = size_t(31) * 63 + 31;
     for (int band = 0; band < 3; ++band)
         EXPECT_NEAR(set.lattice(0, 0, band)[centre], expected, 0.005 * expected);
     // Corner pixels miss every primitive: 0.
-    for (int p = 0; p < kStandardPrimitiveCount; ++p)
-        EXPECT_EQ(set.lattice(1, p, 0)[0], 0.0f);
+    for (int p = 0; p < kStandardPrimitiveCount; ++p) EXPECT_EQ(set.lattice(1, p, 0)[0], 0.0f);
 }
 
 TEST(StandardTest, LatticesAreFiniteNonNegativeAndIndependentOfThreadCount) {
@@ -92,8 +90,8 @@ TEST(StandardTest, ParameterOverridesChangeOnlyTheirModel) {
     const LatticeSet changed = renderStandardLattices(o);
     const size_t perModel = base.data.size() / 2;
     EXPECT_FALSE(std::equal(base.data.begin(), base.data.begin() + perModel, changed.data.begin()));
-    EXPECT_TRUE(std::equal(base.data.begin() + perModel, base.data.end(),
-                           changed.data.begin() + perModel));
+    EXPECT_TRUE(
+        std::equal(base.data.begin() + perModel, base.data.end(), changed.data.begin() + perModel));
 }
 
 TEST(StandardTest, RankingSharesRanksOnTies) {

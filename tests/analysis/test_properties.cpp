@@ -2,8 +2,8 @@
 // analytic directional albedos, a model that is non-reciprocal and one that is anisotropic by
 // construction, the isotropic limits, determinism across thread counts, and the transcription of
 // the paper's Table 1.
-#include "core/tile_scheduler.h"
 #include "analysis/properties.h"
+#include "core/tile_scheduler.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>
@@ -76,8 +76,7 @@ TEST(Properties, ReciprocityErrorSeparatesSymmetricFromAsymmetricDefinitions) {
 // in x into a relative error δ, with |x| up to ~1e3 for directions far from the lobe.
 TEST(Properties, AnisotropyMeasureSeparatesIsotropicFromAnisotropic) {
     EXPECT_GT(anisotropyMeasure(makeBrdf("ward"), 20000, 1), 0.1);
-    EXPECT_LT(anisotropyMeasure(makeBrdf("ward", {"alpha_x=0.1", "alpha_y=0.1"}), 20000, 1),
-              1e-9);
+    EXPECT_LT(anisotropyMeasure(makeBrdf("ward", {"alpha_x=0.1", "alpha_y=0.1"}), 20000, 1), 1e-9);
     EXPECT_GT(anisotropyMeasure(makeBrdf("lafortune", {"cy=-0.6"}), 20000, 1), 0.1);
     EXPECT_LT(anisotropyMeasure(makeBrdf("lafortune"), 20000, 1), 1e-9);
 }
@@ -105,15 +104,15 @@ TEST(Properties, SweepCoversEveryRegisteredModelAndParses) {
         for (const ModelSetting& s : settings) found |= s.model == m.name && s.label == "defaults";
         EXPECT_TRUE(found) << m.name;
     }
-    for (const ModelSetting& s : settings) EXPECT_NO_THROW(makeBrdf(s.model, s.settings)) << s.label;
+    for (const ModelSetting& s : settings)
+        EXPECT_NO_THROW(makeBrdf(s.model, s.settings)) << s.label;
 }
 
 // Koldenhof 2003 Table 1: the score is the number of properties listed.
 TEST(Properties, PaperTableTranscriptionIsConsistent) {
     int found = 0;
     for (const char* name : {"phong", "strauss", "schlick_lewis", "ward", "cook_torrance",
-                                    "poulin_fournier", "he_torrance", "lafortune",
-                                    "ashikhmin_shirley"}) {
+                             "poulin_fournier", "he_torrance", "lafortune", "ashikhmin_shirley"}) {
         const PaperClaims c = paperClaims(name);
         ASSERT_TRUE(c.found) << name;
         EXPECT_EQ(c.score, int(c.plausible) + int(c.fresnel) + int(c.anisotropic) + int(c.popular))
@@ -129,8 +128,9 @@ TEST(Properties, PaperTableTranscriptionIsConsistent) {
 // The table's printed order (by score, ties as printed), which `lobe brdf props` follows: rows
 // 0..8 once each, scores never falling down the table.
 TEST(Properties, PaperTableRowsAreThePrintedOrder) {
-    const char* printed[] = {"poulin_fournier", "phong", "lafortune", "strauss", "schlick_lewis",
-                             "cook_torrance", "he_torrance", "ashikhmin_shirley", "ward"};
+    const char* printed[] = {
+        "poulin_fournier", "phong",       "lafortune",         "strauss", "schlick_lewis",
+        "cook_torrance",   "he_torrance", "ashikhmin_shirley", "ward"};
     int previousScore = -1;
     for (int row = 0; row < 9; ++row) {
         const PaperClaims c = paperClaims(printed[row]);

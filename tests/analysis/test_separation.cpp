@@ -4,7 +4,6 @@
 //   OA = Σ c_A where only A is above t, plus Σ (c_A − c_B) where both are and A is brighter.
 #include "analysis/assign.h"
 #include "analysis/separation.h"
-
 #include "core/error.h"
 
 #include <gtest/gtest.h>
@@ -40,7 +39,8 @@ SeparationLayers twoObjects(int n, const Box& a, const Box& b) {
     l.height = 1;
     l.objects = {"a", "b"};
     l.specular = {grey(boxLayer(n, a)), grey(boxLayer(n, b))};
-    l.lambert = {grey(std::vector<float>(size_t(n), 0.0f)), grey(std::vector<float>(size_t(n), 0.0f))};
+    l.lambert = {grey(std::vector<float>(size_t(n), 0.0f)),
+                 grey(std::vector<float>(size_t(n), 0.0f))};
     l.backdrop = grey(std::vector<float>(size_t(n), 1.0f));
     return l;
 }
@@ -79,7 +79,8 @@ TEST(Separation, PartialOverlapByHand) {
 TEST(Separation, MovingTheHighlightsApartNeverLowersTheScore) {
     double last = -1.0;
     for (int shift = 0; shift <= 12; ++shift) {
-        const double s = measureSeparation(twoObjects(40, {0, 10, 0.5}, {shift, shift + 10, 0.4})).score;
+        const double s =
+            measureSeparation(twoObjects(40, {0, 10, 0.5}, {shift, shift + 10, 0.4})).score;
         EXPECT_GE(s, last) << "shift " << shift;
         last = s;
     }
@@ -109,7 +110,8 @@ TEST(Separation, MergedObjectsScoreAsOne) {
     SeparationLayers l = twoObjects(40, {0, 10, 0.5}, {20, 30, 0.6});
     SeparationLayers split = l;
     split.objects = {"a", "b1", "b2"};
-    split.specular = {l.specular[0], grey(boxLayer(40, {20, 25, 0.6})), grey(boxLayer(40, {25, 30, 0.6}))};
+    split.specular = {l.specular[0], grey(boxLayer(40, {20, 25, 0.6})),
+                      grey(boxLayer(40, {25, 30, 0.6}))};
     split.lambert = {l.lambert[0], l.lambert[0], l.lambert[0]};
     const SeparationLayers merged = mergeObjects(split, "b", {"b1", "b2"});
     EXPECT_EQ(merged.objects, (std::vector<std::string>{"a", "b"}));
@@ -148,9 +150,11 @@ SeparationLayers veilScene(VeilHighlight h, bool veilBehind = false, bool tinted
             own[size_t(3 * i + c)] = tintedHighlight ? float(red[c] * 0.3 / redY) : 0.3f;
     std::vector<float> veil(3 * n, 0.0f);
     for (int i = 0; i < n; ++i) {
-        const bool on = h == VeilHighlight::Narrow ? i < 5 : (i >= 10 && i < 20) || (i >= 25 && i < 30);
+        const bool on =
+            h == VeilHighlight::Narrow ? i < 5 : (i >= 10 && i < 20) || (i >= 25 && i < 30);
         if (on)
-            for (int c = 0; c < 3; ++c) veil[size_t(3 * i + c)] = h == VeilHighlight::Narrow ? 0.05f : 1.0f;
+            for (int c = 0; c < 3; ++c)
+                veil[size_t(3 * i + c)] = h == VeilHighlight::Narrow ? 0.05f : 1.0f;
     }
     l.specular = {veil, own};
     return l;
@@ -160,7 +164,8 @@ TEST(Separation, AHighlightThatVeilsAnotherObjectScoresLower) {
     const SeparationReport narrow = measureSeparation(veilScene(VeilHighlight::Narrow));
     const SeparationReport broad = measureSeparation(veilScene(VeilHighlight::Broad));
     // The broad highlight stands out more: the highlight term alone prefers it (0.56 vs 0.25).
-    EXPECT_GT(broad.highlight, 2.0 * narrow.highlight) << broad.highlight << " " << narrow.highlight;
+    EXPECT_GT(broad.highlight, 2.0 * narrow.highlight)
+        << broad.highlight << " " << narrow.highlight;
     // ... but it lies over the inner object: veiled, less of the pixel, its red washed out.
     const ObjectVisibility& in = broad.objects[1];
     const ObjectVisibility& inNarrow = narrow.objects[1];
@@ -171,7 +176,8 @@ TEST(Separation, AHighlightThatVeilsAnotherObjectScoresLower) {
     EXPECT_NEAR(in.veiling, 15.0 / 20.0 * 1.0 / (0.15 + redY + 1.0), 1e-6);
     // V by hand: its share Y(red)/Y on the 15 veiled pixels, (Y(red) + 0.3)/Y on its highlight.
     EXPECT_NEAR(in.visibility,
-                (15 * redY / (0.15 + redY + 1.0) + 5 * (redY + 0.3) / (0.15 + redY + 0.3)) / 20, 1e-6);
+                (15 * redY / (0.15 + redY + 1.0) + 5 * (redY + 0.3) / (0.15 + redY + 0.3)) / 20,
+                1e-6);
     EXPECT_NEAR(in.matteVisibility, redY / (0.15 + redY), 1e-6);
     EXPECT_GE(inNarrow.visibility, inNarrow.matteVisibility);
     EXPECT_LT(in.identity, inNarrow.identity);
@@ -199,8 +205,10 @@ TEST(Separation, TheSameLightInFrontVeilsBehindItDoesNot) {
 TEST(Separation, AWhiteHighlightThatWashesOutTheColourScoresLower) {
     // The inner object's own highlight at the same luminance, white or in its own red: the
     // highlight term cannot tell them apart, identity can.
-    const SeparationReport white = measureSeparation(veilScene(VeilHighlight::Narrow, false, false));
-    const SeparationReport tinted = measureSeparation(veilScene(VeilHighlight::Narrow, false, true));
+    const SeparationReport white =
+        measureSeparation(veilScene(VeilHighlight::Narrow, false, false));
+    const SeparationReport tinted =
+        measureSeparation(veilScene(VeilHighlight::Narrow, false, true));
     EXPECT_NEAR(white.highlight, tinted.highlight, 1e-6);
     EXPECT_TRUE(white.objects[1].chromatic);
     EXPECT_FALSE(white.objects[0].chromatic);  // the grey veil has no colour to keep
@@ -299,7 +307,8 @@ TEST(Assign, DistinctNeverRepeatsAModel) {
     const AssignResult r = searchAssignments(l, o);
     ASSERT_FALSE(r.ranked.empty());
     for (const ScoredAssignment& a : r.ranked)
-        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])], l.candidateModels[size_t(a.assignment[1])]);
+        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])],
+                  l.candidateModels[size_t(a.assignment[1])]);
     // Of the 9 assignments, (0,0), (0,1), (1,0), (1,1), (2,2) repeat a model.
     EXPECT_EQ(r.rejected, 5u);
     EXPECT_EQ(r.ranked.size(), 4u);
@@ -314,7 +323,8 @@ TEST(Assign, DistinctNeverRepeatsAModel) {
     local.exhaustiveLimit = 0;
     local.start = {0, 0};
     for (const ScoredAssignment& a : searchAssignments(l, local).ranked)
-        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])], l.candidateModels[size_t(a.assignment[1])]);
+        EXPECT_NE(l.candidateModels[size_t(a.assignment[0])],
+                  l.candidateModels[size_t(a.assignment[1])]);
 }
 
 TEST(Assign, BoundsRejectAssignmentsThatLoseAnObject) {
@@ -360,7 +370,8 @@ TEST(Assign, SparkleIsSpecksNotBroadHighlights) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const double r2 = (x - 8) * (x - 8) + (y - 8) * (y - 8);
-            for (int c = 0; c < 3; ++c) blob[size_t(3 * (y * w + x) + c)] = float(std::exp(-r2 / 8.0));
+            for (int c = 0; c < 3; ++c)
+                blob[size_t(3 * (y * w + x) + c)] = float(std::exp(-r2 / 8.0));
         }
     EXPECT_EQ(sparkleShare(speck.data(), w, h), 1.0);
     EXPECT_EQ(sparkleShare(blob.data(), w, h), 0.0);

@@ -4,12 +4,10 @@
 // Reference numbers computed with Python's statistics.NormalDist (an independent Φ⁻¹):
 //   σ = 1/NormalDist().inv_cdf(0.75), σ·inv_cdf(0.35), σ·inv_cdf(0.5/11), Wilson for 8 of 10.
 #include "analysis/study.h"
-
 #include "core/error.h"
 
-#include <nlohmann/json.hpp>
-
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 
@@ -94,9 +92,12 @@ std::string pairStudy(int n, int repeats) {
     s["trials"] = nlohmann::json::array();
     for (int r = 0; r < repeats; ++r)
         for (int i = 0; i < n; ++i)
-            for (int j = i + 1; j < n; ++j) s["trials"].push_back({{"kind", "pair"}, {"a", i}, {"b", j}});
+            for (int j = i + 1; j < n; ++j)
+                s["trials"].push_back({{"kind", "pair"}, {"a", i}, {"b", j}});
     s["trials"].push_back({{"kind", "attention"}, {"instructed", "left"}});
-    s["trials"].push_back({{"kind", "marker"}, {"condition", 1}, {"object", "skull"},
+    s["trials"].push_back({{"kind", "marker"},
+                           {"condition", 1},
+                           {"object", "skull"},
                            {"options", {"skull", "cortex"}}});
     return s.dump();
 }
@@ -117,8 +118,9 @@ TEST(StudyJod, PlantedOneJodDifferenceIsRecovered) {
     for (int s = 0; s < studies; ++s) {
         std::vector<StudyAnswers> answers;
         for (int o = 0; o < 30; ++o)
-            answers.push_back(parseStudyAnswers(simulateStudyAnswers(study, model, o, 1000 + uint64_t(s)),
-                                                "sim" + std::to_string(o)));
+            answers.push_back(
+                parseStudyAnswers(simulateStudyAnswers(study, model, o, 1000 + uint64_t(s)),
+                                  "sim" + std::to_string(o)));
         for (const StudyAnswers& o : answers)
             for (const auto& p : o.pairs)
                 if (p.a == 0 && p.b == 1) {
@@ -188,12 +190,14 @@ TEST(StudyAnswersFile, AttentionFailuresAreExcludedAndMarkersScored) {
     careless.attentionPass = 0.0;
     careless.markerAccuracy = {0.0, 0.0, 0.0};
     std::vector<StudyAnswers> answers;
-    for (int o = 0; o < 3; ++o) answers.push_back(parseStudyAnswers(simulateStudyAnswers(study, good, o, 3), "g"));
+    for (int o = 0; o < 3; ++o)
+        answers.push_back(parseStudyAnswers(simulateStudyAnswers(study, good, o, 3), "g"));
     answers.push_back(parseStudyAnswers(simulateStudyAnswers(study, careless, 9, 3), "bad.json"));
     const StudyAnalysis a = analyseStudy(answers);
     EXPECT_EQ(a.included.size(), 3u);
     ASSERT_EQ(a.excluded.size(), 1u);
-    EXPECT_NE(a.excluded[0].find("sim-9 (bad.json): failed 1 of 1"), std::string::npos) << a.excluded[0];
+    EXPECT_NE(a.excluded[0].find("sim-9 (bad.json): failed 1 of 1"), std::string::npos)
+        << a.excluded[0];
     EXPECT_EQ(a.pairTrials, 3 * 6);
     // The careless observer's wrong marker answer is not counted: 3 of 3 right on condition 1.
     EXPECT_EQ(a.markerAccuracy[1].trials, 3);

@@ -2,14 +2,15 @@
 // output written on bad input, and hand values from `lobe brdf eval`. Each test runs the built
 // binary (LOBE_EXE) in a shell with its own temporary folder, so parallel ctest processes never
 // share files.
-#include "core/image_output.h"
 #include "cli_harness.h"
+#include "core/image_output.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,8 +18,6 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace {
@@ -51,8 +50,8 @@ CliRun lobe(const std::string& args, const std::string& input = "") {
 // and blank lines are skipped.
 TEST(Cli, BrdfEvalWardHandValues) {
     const CliRun r = lobe("brdf eval ward rho_s=0.05,0.1,0.2",
-                       "0,0,1,0,0,1\n 0, 0, 2 ,0,0,5\n\n"
-                       "1.7320508075688772,0,1,-1.7320508075688772,0,1\n");
+                          "0,0,1,0,0,1\n 0, 0, 2 ,0,0,5\n\n"
+                          "1.7320508075688772,0,1,-1.7320508075688772,0,1\n");
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.out,
               "0.2652582385,0.530516477,1.061032954\n0.2652582385,0.530516477,1.061032954\n"
@@ -63,7 +62,10 @@ TEST(Cli, BrdfEvalMalformedLineNamesItsNumber) {
     // Line 3, counting the blank line 2.
     const CliRun r = lobe("brdf eval ward", "0,0,1,0,0,1\n\n0,0,1,0,zero,1\n");
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_EQ(r.err.rfind("lobe: error: standard input line 3: expected six comma-separated numbers", 0), 0u) << r.err;
+    EXPECT_EQ(
+        r.err.rfind("lobe: error: standard input line 3: expected six comma-separated numbers", 0),
+        0u)
+        << r.err;
     EXPECT_EQ(r.errLines(), 1);
 }
 
@@ -75,7 +77,10 @@ TEST(Cli, BrdfEvalNulInsideAFieldIsRefused) {
     input += "x,0,0,1\n";
     const CliRun r = lobe("brdf eval ward", input);
     EXPECT_EQ(r.exitCode, 1) << r.out;
-    EXPECT_EQ(r.err.rfind("lobe: error: standard input line 2: expected six comma-separated numbers", 0), 0u) << r.err;
+    EXPECT_EQ(
+        r.err.rfind("lobe: error: standard input line 2: expected six comma-separated numbers", 0),
+        0u)
+        << r.err;
     EXPECT_EQ(r.errLines(), 1);
 }
 
@@ -107,8 +112,9 @@ TEST(Cli, BrdfEvalUnknownModelAndParameterAreNamed) {
 // Directions are normalised without overflow or underflow (1e308 and 1e-300 components); a
 // parameter given twice is refused rather than the last silently winning.
 TEST(Cli, BrdfEvalExtremeComponentsAndDuplicateParameters) {
-    CliRun r = lobe("brdf eval ward", "1e308,0,1e308,-1e308,0,1e308\n1e-300,0,1e-300,-1e-300,0,1e-300\n"
-                                      "1,0,1,-1,0,1\n");
+    CliRun r = lobe("brdf eval ward",
+                    "1e308,0,1e308,-1e308,0,1e308\n1e-300,0,1e-300,-1e-300,0,1e-300\n"
+                    "1,0,1,-1,0,1\n");
     EXPECT_EQ(r.exitCode, 0) << r.err;
     std::istringstream lines(r.out);
     std::string huge, tiny, unit;
@@ -134,10 +140,12 @@ TEST(Cli, BrdfListListsAllTenInThePapersOrder) {
     std::istringstream lines(r.out);
     for (std::string line; std::getline(lines, line);) {
         const auto sep = line.find("  (");
-        if (sep != std::string::npos && line[0] >= 'a' && line[0] <= 'z') names += line.substr(0, sep) + " ";
+        if (sep != std::string::npos && line[0] >= 'a' && line[0] <= 'z')
+            names += line.substr(0, sep) + " ";
     }
-    EXPECT_EQ(names, "phong strauss schlick_lewis ward cook_torrance poulin_fournier he_torrance "
-                     "lafortune ashikhmin_shirley lambert ");
+    EXPECT_EQ(names,
+              "phong strauss schlick_lewis ward cook_torrance poulin_fournier he_torrance "
+              "lafortune ashikhmin_shirley lambert ");
 }
 
 // ---- lobe render, demo, contact-sheet ---------------------------------------------------------
@@ -169,8 +177,9 @@ TEST(Cli, RenderBadSceneWritesNothing) {
 
 TEST(Cli, RenderOfAVolumeSaysItWantsASceneFile) {
     const fs::path d = testDir();
-    const CliRun r = lobe("render " + quote(kSource + "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz") +
-                          " --out " + quote((d / "out").string()));
+    const CliRun r =
+        lobe("render " + quote(kSource + "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz") +
+             " --out " + quote((d / "out").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("is a volume, not a scene file"), std::string::npos) << r.err;
     EXPECT_EQ(r.errLines(), 1);
@@ -186,12 +195,15 @@ TEST(Cli, DemoTinyWritesBothImages) {
         // The provenance `lobe render` records (apps/figure_output.h), here too.
         const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
         ASSERT_TRUE(a.count("lobe:command_line")) << f;
-        EXPECT_NE(a.at("lobe:command_line").find(" demo --size 24 --spp 1"), std::string::npos) << f;
+        EXPECT_NE(a.at("lobe:command_line").find(" demo --size 24 --spp 1"), std::string::npos)
+            << f;
         EXPECT_FALSE(a.at("lobe:version").empty()) << f;
         EXPECT_EQ(a.at("lobe:seed"), "1") << f;
     }
-    const lobe::ImageAttributes scene = lobe::readImageAttributes((d / "rendering-01.exr").string());
-    EXPECT_EQ(scene.at("lobe:scene_json"), readFile(kSource + "/assets/scenes/paper/rendering-01.json"));
+    const lobe::ImageAttributes scene =
+        lobe::readImageAttributes((d / "rendering-01.exr").string());
+    EXPECT_EQ(scene.at("lobe:scene_json"),
+              readFile(kSource + "/assets/scenes/paper/rendering-01.json"));
     EXPECT_NE(scene.at("lobe:render_settings").find("24x24 spp 1 seed 1"), std::string::npos);
     EXPECT_NE(lobe::readImageAttributes((d / "gallery.png").string())
                   .at("lobe:render_settings")
@@ -201,7 +213,8 @@ TEST(Cli, DemoTinyWritesBothImages) {
 
 TEST(Cli, ContactSheetAndAMissingImageNamed) {
     const fs::path d = testDir();
-    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
+    ASSERT_EQ(
+        lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
     for (const char* f : {"gallery.png", "gallery.exr"}) {
         const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
         ASSERT_TRUE(a.count("lobe:render_settings")) << f;
@@ -210,8 +223,8 @@ TEST(Cli, ContactSheetAndAMissingImageNamed) {
         EXPECT_NE(a.at("lobe:command_line").find(" gallery --cell 16"), std::string::npos) << f;
     }
     CliRun r = lobe("contact-sheet --out " + quote((d / "sheet.jpg").string()) + " --thumb 64 " +
-                 quote((d / "gallery.png").string() + "=one") + " " +
-                 quote((d / "gallery.exr").string() + "=two"));
+                    quote((d / "gallery.png").string() + "=one") + " " +
+                    quote((d / "gallery.exr").string() + "=two"));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_GT(fs::file_size(d / "sheet.jpg"), 0u);
     // A PNG sheet records its command line and captions (non-ASCII as \uXXXX, as elsewhere).
@@ -234,14 +247,17 @@ TEST(Cli, ContactSheetAndAMissingImageNamed) {
 // Read error: hit end of file", "PNG library error") are not printed beside it.
 TEST(Cli, ADamagedPngIsOneErrorLine) {
     const fs::path d = testDir();
-    ASSERT_EQ(lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
+    ASSERT_EQ(
+        lobe("gallery --cell 16 --spp 1 --seed 3 --quiet --out " + quote(d.string())).exitCode, 0);
     const std::string whole = readFile(d / "gallery.png");
     std::ofstream(d / "cut.png", std::ios::binary) << whole.substr(0, whole.size() / 2);
     const CliRun r = lobe("contact-sheet --out " + quote((d / "s.png").string()) + " " +
                           quote((d / "cut.png").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_EQ(r.errLines(), 1) << r.err;
-    EXPECT_EQ(r.err.rfind("lobe: error: cannot read image '" + (d / "cut.png").string() + "'", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.rfind("lobe: error: cannot read image '" + (d / "cut.png").string() + "'", 0),
+              0u)
+        << r.err;
     EXPECT_FALSE(fs::exists(d / "s.png"));
 }
 
@@ -249,7 +265,8 @@ TEST(Cli, ADamagedPngIsOneErrorLine) {
 // currently limited").
 TEST(Cli, ManyThreadsUnderQuietPrintNothing) {
     const fs::path d = testDir();
-    const CliRun r = lobe("gallery --cell 16 --spp 1 --quiet --threads 64 --out " + quote(d.string()));
+    const CliRun r =
+        lobe("gallery --cell 16 --spp 1 --quiet --threads 64 --out " + quote(d.string()));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err, "");
 }
@@ -257,8 +274,9 @@ TEST(Cli, ManyThreadsUnderQuietPrintNothing) {
 TEST(Cli, RenderPreviewAndRouletteOverrides) {
     const fs::path d = testDir();
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
-    CliRun r = lobe("render " + quote(scene) + " --preview --width 32 --roulette 0 --no-contact-sheets --out " +
-                 quote((d / "out").string()));
+    CliRun r = lobe("render " + quote(scene) +
+                    " --preview --width 32 --roulette 0 --no-contact-sheets --out " +
+                    quote((d / "out").string()));
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("32x32, 1 spp"), std::string::npos) << r.err;
     // A preview's names cannot replace a full render's.
@@ -276,7 +294,8 @@ TEST(Cli, RenderRefusesOutOfRangeOverridesBeforeWriting) {
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
     for (const char* bad : {"--width 0", "--spp 0", "--seed -1", "--step nan", "--step 1e-9",
                             "--threads -1", "--height 20000"}) {
-        const CliRun r = lobe("render " + quote(scene) + " " + bad + " --out " + quote((d / "out").string()));
+        const CliRun r =
+            lobe("render " + quote(scene) + " " + bad + " --out " + quote((d / "out").string()));
         EXPECT_NE(r.exitCode, 0) << bad;
         EXPECT_FALSE(r.err.empty()) << bad;
         EXPECT_FALSE(fs::exists(d / "out")) << bad;
@@ -345,7 +364,8 @@ TEST(Cli, AnOverflowingHighlightIsFiniteAndWhite) {
     const lobe::RgbImage png = lobe::readImage((d / "out" / "scene.png").string());
     size_t white = 0;
     for (size_t p = 0; p < png.rgb.size() / 3; ++p)
-        if (png.rgb[p * 3] >= 1.0f && png.rgb[p * 3 + 1] >= 1.0f && png.rgb[p * 3 + 2] >= 1.0f) ++white;
+        if (png.rgb[p * 3] >= 1.0f && png.rgb[p * 3 + 1] >= 1.0f && png.rgb[p * 3 + 2] >= 1.0f)
+            ++white;
     EXPECT_GT(white, 0u);
 }
 
@@ -356,11 +376,12 @@ TEST(Cli, BatchFindsALaterScenesBadVolumeBeforeRendering) {
     fs::create_directories(d / "a");
     fs::create_directories(d / "b");
     const std::string good = sceneWith(d / "a", "", "");
-    std::string brain = readFile(kSource + "/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz");
+    std::string brain =
+        readFile(kSource + "/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz");
     std::ofstream(d / "b" / "broken.nii.gz", std::ios::binary) << brain.substr(0, 1000);
-    const std::string bad =
-        sceneWith(d / "b", kSource + "/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
-                  (d / "b" / "broken.nii.gz").string());
+    const std::string bad = sceneWith(
+        d / "b", kSource + "/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
+        (d / "b" / "broken.nii.gz").string());
     fs::rename(bad, d / "b" / "later.json");
     const CliRun r = lobe("render " + quote(good) + " " + quote((d / "b" / "later.json").string()) +
                           " --width 16 --spp 1 --quiet --out " + quote((d / "out").string()));
@@ -386,17 +407,23 @@ TEST(Cli, AFullDiskIsAnErrorAndLeavesNoFile) {
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
     fs::create_directories(d / "render");
     EXPECT_EQ(limited("render " + quote(scene) + " --width 256 --spp 1 --quiet --out " +
-                          quote((d / "render").string()), 20), 1);
+                          quote((d / "render").string()),
+                      20),
+              1);
     EXPECT_NE(readFile(d / "err").find("cannot write"), std::string::npos) << readFile(d / "err");
     EXPECT_TRUE(fs::is_empty(d / "render"));
     fs::create_directories(d / "sheet");
     EXPECT_EQ(limited("contact-sheet --out " + quote((d / "sheet" / "s.png").string()) + " " +
-                          quote(kSource + "/docs/images/gallery.jpg"), 20), 1);
+                          quote(kSource + "/docs/images/gallery.jpg"),
+                      20),
+              1);
     EXPECT_NE(readFile(d / "err").find("incomplete"), std::string::npos) << readFile(d / "err");
     EXPECT_TRUE(fs::is_empty(d / "sheet"));
     fs::create_directories(d / "vdb");
     EXPECT_EQ(limited("convert " + quote(kSource + "/assets/cthead/cthead.nhdr") + " " +
-                          quote((d / "vdb" / "x.vdb").string()), 30), 1);
+                          quote((d / "vdb" / "x.vdb").string()),
+                      30),
+              1);
     EXPECT_NE(readFile(d / "err").find("cannot write the OpenVDB file"), std::string::npos)
         << readFile(d / "err");
     EXPECT_TRUE(fs::is_empty(d / "vdb"));
@@ -445,14 +472,16 @@ TEST(Cli, BatchCollisionsCheckSkipExistingAndKeepGoing) {
 TEST(Cli, RenderAovWritesNamedChannelsAndRefusesABadPass) {
     const fs::path d = testDir();
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
-    CliRun r = lobe("render " + quote(scene) + " --width 16 --spp 1 --aov all --quiet --no-contact-sheets --out " +
-                 quote((d / "out").string()));
+    CliRun r = lobe("render " + quote(scene) +
+                    " --width 16 --spp 1 --aov all --quiet --no-contact-sheets --out " +
+                    quote((d / "out").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string exr = readFile(d / "out" / "rendering-01.exr");
     for (const char* ch : {"skull.specular.R", "cortex.lambert.G", "density_map_3.specular.B",
                            "backdrop.R", "depth.Z", "N.X", "object.id"})
         EXPECT_NE(exr.find(ch), std::string::npos) << ch;
-    r = lobe("render " + quote(scene) + " --aov objects,specularity --out " + quote((d / "bad").string()));
+    r = lobe("render " + quote(scene) + " --aov objects,specularity --out " +
+             quote((d / "bad").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("--aov: unknown pass 'specularity'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "bad"));
@@ -471,11 +500,15 @@ TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
     const fs::path d = testDir();
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
     const std::string common = " --width 40 --spp 2 --aov objects --quiet ";
-    ASSERT_EQ(lobe("render " + quote(scene) + common + "--out " + quote((d / "one").string())).exitCode, 0);
+    ASSERT_EQ(
+        lobe("render " + quote(scene) + common + "--out " + quote((d / "one").string())).exitCode,
+        0);
     for (int i = 0; i < 3; ++i)
         ASSERT_EQ(lobe("render " + quote(scene) + common + "--shard " + std::to_string(i) +
-                       "/3 --threads " + std::to_string(1 + i % 2) + " --out " + quote((d / "parts").string()))
-                      .exitCode, 0);
+                       "/3 --threads " + std::to_string(1 + i % 2) + " --out " +
+                       quote((d / "parts").string()))
+                      .exitCode,
+                  0);
     EXPECT_FALSE(fs::exists(d / "parts" / "rendering-01.png"));  // parts only, until merged
     CliRun r = lobe("merge " + quote(scene) + common + "--out " + quote((d / "parts").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -483,7 +516,8 @@ TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
     // Pixels, not bytes: the PNGs' provenance names their own command lines.
     EXPECT_TRUE(samePixels(d / "one" / "rendering-01.png", d / "parts" / "rendering-01.png"));
     // Parts of other settings, or a missing part, are refused by name.
-    r = lobe("merge " + quote(scene) + " --width 40 --spp 4 --aov objects --out " + quote((d / "parts").string()));
+    r = lobe("merge " + quote(scene) + " --width 40 --spp 4 --aov objects --out " +
+             quote((d / "parts").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("rendered with other settings"), std::string::npos) << r.err;
     fs::remove(d / "parts" / "rendering-01.part-1-of-3.exr");
@@ -528,9 +562,13 @@ TEST(Cli, InfoHistogramIsNotScaledByTheBackground) {
     const CliRun r = lobe("info " + quote((d / "ball.raw").string()) +
                           " --dims 16,16,16 --type uint8 --histogram --bins 4");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.out.find("bars scaled without the bin of 0, whose bar is cut (>)"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("3544   86.52 %  " + std::string(40, '#') + ">\n"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("552   13.48 %  " + std::string(40, '#') + "\n"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("bars scaled without the bin of 0, whose bar is cut (>)"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("3544   86.52 %  " + std::string(40, '#') + ">\n"), std::string::npos)
+        << r.out;
+    EXPECT_NE(r.out.find("552   13.48 %  " + std::string(40, '#') + "\n"), std::string::npos)
+        << r.out;
 }
 
 // Parts rendered from different volume data (the file re-exported between two array tasks)
@@ -548,8 +586,10 @@ TEST(Cli, MergeRefusesPartsOfDifferentVolumeData) {
     EXPECT_EQ(r.exitCode, 1) << r.err;
     EXPECT_EQ(r.errLines(), 1) << r.err;
     EXPECT_NE(r.err.find("ball.part-1-of-2.exr: rendered from other volume data than "),
-              std::string::npos) << r.err;
-    EXPECT_NE(r.err.find((d / "ball.raw").string() + " (content hash "), std::string::npos) << r.err;
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find((d / "ball.raw").string() + " (content hash "), std::string::npos)
+        << r.err;
     EXPECT_FALSE(fs::exists(d / "parts" / "ball.png"));
     // Part 0 rendered again from the same data as part 1: merged.
     ASSERT_EQ(lobe("render " + quote(scene) + " --shard 0/2" + common).exitCode, 0);
@@ -568,11 +608,14 @@ TEST(Cli, RowShardsWithABackgroundMergeIntoTheSingleRunsImage) {
         const std::string common = " --width 40 --spp 1 --quiet --background " + background + " ";
         const fs::path one = d / ("one" + std::to_string(background.size()));
         const fs::path parts = d / ("parts" + std::to_string(background.size()));
-        ASSERT_EQ(lobe("render " + quote(scene) + common + "--out " + quote(one.string())).exitCode, 0);
+        ASSERT_EQ(lobe("render " + quote(scene) + common + "--out " + quote(one.string())).exitCode,
+                  0);
         for (int i = 0; i < 2; ++i)
-            ASSERT_EQ(lobe("render " + quote(scene) + common + "--shard " + std::to_string(i) +
-                           "/2 --threads " + std::to_string(1 + i) + " --out " + quote(parts.string()))
-                          .exitCode, 0);
+            ASSERT_EQ(
+                lobe("render " + quote(scene) + common + "--shard " + std::to_string(i) +
+                     "/2 --threads " + std::to_string(1 + i) + " --out " + quote(parts.string()))
+                    .exitCode,
+                0);
         // Merged without --background: the parts say which.
         const CliRun r = lobe("merge " + quote(scene) + " --width 40 --spp 1 --quiet --out " +
                               quote(parts.string()));
@@ -593,27 +636,32 @@ TEST(Cli, RowShardsWithABackgroundMergeIntoTheSingleRunsImage) {
         ASSERT_EQ(lobe("render " + quote(scene) + " --width 40 --spp 1 --quiet --background " +
                        (i ? "none" : "backdrop") + " --shard " + std::to_string(i) + "/2 --out " +
                        quote(mixed.string()))
-                      .exitCode, 0);
+                      .exitCode,
+                  0);
     const CliRun r = lobe("merge " + quote(scene) + " --width 40 --spp 1 --quiet --out " +
                           quote(mixed.string()));
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("rendered with --background none, part 0 with backdrop"), std::string::npos)
+    EXPECT_NE(r.err.find("rendered with --background none, part 0 with backdrop"),
+              std::string::npos)
         << r.err;
 }
 
 TEST(Cli, BatchShardsAndMergeWriteTheSingleRunsFilesAndContactSheet) {
     const fs::path d = testDir();
     const std::string k = kSource + "/assets/scenes/skull/";
-    const std::string scenes = quote(k + "skull-ward.json") + " " + quote(k + "skull-phong.json") + " " +
-                               quote(k + "skull-lafortune.json") + " --width 24 --spp 1 --quiet ";
+    const std::string scenes = quote(k + "skull-ward.json") + " " + quote(k + "skull-phong.json") +
+                               " " + quote(k + "skull-lafortune.json") +
+                               " --width 24 --spp 1 --quiet ";
     ASSERT_EQ(lobe("render " + scenes + "--out " + quote((d / "one").string())).exitCode, 0);
     for (int i = 0; i < 2; ++i)
         ASSERT_EQ(lobe("render " + scenes + "--shard " + std::to_string(i) + "/2 --out " +
-                       quote((d / "sh").string())).exitCode, 0);
+                       quote((d / "sh").string()))
+                      .exitCode,
+                  0);
     ASSERT_EQ(lobe("merge " + scenes + "--out " + quote((d / "sh").string())).exitCode, 0);
     // By pixels: every PNG's provenance names its own command line (the sheets' too).
-    for (const char* f : {"skull-ward.png", "skull-phong.png", "skull-lafortune.png",
-                          "contact-sheet-skull.png"})
+    for (const char* f :
+         {"skull-ward.png", "skull-phong.png", "skull-lafortune.png", "contact-sheet-skull.png"})
         EXPECT_TRUE(samePixels(d / "one" / f, d / "sh" / f)) << f;
     EXPECT_EQ(lobe::readImageAttributes((d / "one" / "contact-sheet-skull.png").string())
                   .at("lobe:sheet_captions"),
@@ -627,9 +675,10 @@ TEST(Cli, BatchShardsAndMergeWriteTheSingleRunsFilesAndContactSheet) {
 TEST(Cli, SeparationWritesItsReportAndRefusesCollidingScenes) {
     const fs::path d = testDir();
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
-    CliRun r = lobe("separation " + quote(scene) + " --width 24 --spp 1 --quiet --out " +
-                 quote((d / "sep").string()) +
-                 " --merge 'density maps=density map 0,density map 1,density map 2,density map 3'");
+    CliRun r =
+        lobe("separation " + quote(scene) + " --width 24 --spp 1 --quiet --out " +
+             quote((d / "sep").string()) +
+             " --merge 'density maps=density map 0,density map 1,density map 2,density map 3'");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string md = readFile(d / "sep" / "rendering-01.md");
     EXPECT_NE(md.find("| skull / cortex |"), std::string::npos) << md;
@@ -639,12 +688,14 @@ TEST(Cli, SeparationWritesItsReportAndRefusesCollidingScenes) {
     // The same file name from two folders would write the same files: refused before rendering.
     fs::create_directories(d / "other");
     fs::copy_file(sceneWith(d, "", ""), d / "other" / "rendering-01.json");
-    r = lobe("separation " + quote(scene) + " " + quote((d / "other" / "rendering-01.json").string()) +
-             " --out " + quote((d / "sep2").string()));
+    r = lobe("separation " + quote(scene) + " " +
+             quote((d / "other" / "rendering-01.json").string()) + " --out " +
+             quote((d / "sep2").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("would write the same files"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "sep2"));
-    r = lobe("separation " + quote(scene) + " --merge 'maps=density map 9' --width 8 --spp 1 --quiet --out " +
+    r = lobe("separation " + quote(scene) +
+             " --merge 'maps=density map 9' --width 8 --spp 1 --quiet --out " +
              quote((d / "sep3").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("no object 'density map 9'"), std::string::npos) << r.err;
@@ -655,7 +706,7 @@ TEST(Cli, AssignWritesALoadableSceneAndNeverOverwrites) {
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
     const std::string best = (d / "best.json").string();
     CliRun r = lobe("assign " + quote(scene) + " --out " + quote(best) +
-                 " --width 24 --spp 1 --keep skull --exclude he_torrance --quiet");
+                    " --width 24 --spp 1 --keep skull --exclude he_torrance --quiet");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string report = readFile(d / "best-assign.md");
     EXPECT_NE(report.find("| 1 |"), std::string::npos) << report;
@@ -670,7 +721,8 @@ TEST(Cli, AssignWritesALoadableSceneAndNeverOverwrites) {
     r = lobe("assign " + quote(scene) + " --out " + quote(best) + " --width 24 --spp 1 --quiet");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("exists (use --force"), std::string::npos) << r.err;
-    r = lobe("assign " + quote(scene) + " --out " + quote((d / "x.json").string()) + " --keep brain");
+    r = lobe("assign " + quote(scene) + " --out " + quote((d / "x.json").string()) +
+             " --keep brain");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("no object 'brain'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "x.json"));
@@ -694,7 +746,8 @@ TEST(Cli, AssignNamesItsModelsAndKeepsTheRules) {
     std::sort(models.begin(), models.end());
     EXPECT_EQ(std::unique(models.begin(), models.end()), models.end()) << text;
     size_t albedos = 0;
-    for (size_t at = 0; (at = text.find("\"albedo\": 0.1", at)) != std::string::npos; ++at) ++albedos;
+    for (size_t at = 0; (at = text.find("\"albedo\": 0.1", at)) != std::string::npos; ++at)
+        ++albedos;
     EXPECT_EQ(albedos, 6u) << text;
     // The title and group name the chosen models, not the input's "1: Ward / Ashikhmin / …", "A".
     EXPECT_EQ(text.find("1: Ward / Ashikhmin"), std::string::npos);
@@ -704,18 +757,22 @@ TEST(Cli, AssignNamesItsModelsAndKeepsTheRules) {
     ASSERT_NE(group, std::string::npos) << text;
     const std::string titleLine = text.substr(title, text.find('\n', title) - title);
     const std::string groupLine = text.substr(group, text.find('\n', group) - group);
-    for (const std::string& m : models) EXPECT_NE(groupLine.find(m), std::string::npos) << groupLine;
+    for (const std::string& m : models)
+        EXPECT_NE(groupLine.find(m), std::string::npos) << groupLine;
     EXPECT_NE(titleLine.find("density map 3 "), std::string::npos) << titleLine;
     // The report gives every object's visibility and chroma before and after.
     const std::string report = readFile(d / "distinct-assign.md");
     EXPECT_NE(report.find("| object | input model | chosen model | V before | V after |"),
-              std::string::npos) << report;
+              std::string::npos)
+        << report;
     EXPECT_NE(report.find("no two objects share a model"), std::string::npos) << report;
     // Bad values are named, nothing written.
     r = lobe("assign " + quote(scene) + " --out " + quote((d / "y.json").string()) +
              " --equal-albedo 2 --width 8 --spp 1 --quiet");
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.err.find("--equal-albedo: expected an albedo in (0, 1], got '2'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--equal-albedo: expected an albedo in (0, 1], got '2'"),
+              std::string::npos)
+        << r.err;
     EXPECT_FALSE(fs::exists(d / "y.json"));
 }
 
@@ -723,12 +780,13 @@ TEST(Cli, AssignNamesItsModelsAndKeepsTheRules) {
 
 TEST(Cli, ConvertWithALayoutContradictingTheDataWritesNothing) {
     const fs::path d = testDir();
-    const CliRun r = lobe("convert " + quote(kSource + "/assets/cthead/cthead_256x256x113_int16be.raw.gz") +
-                          " " + quote((d / "bad.vdb").string()) +
-                          " --dims 256,256,112 --type int16 --endian big");
+    const CliRun r = lobe(
+        "convert " + quote(kSource + "/assets/cthead/cthead_256x256x113_int16be.raw.gz") + " " +
+        quote((d / "bad.vdb").string()) + " --dims 256,256,112 --type int16 --endian big");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("cthead_256x256x113_int16be.raw.gz: the layout contradicts the data size"),
-              std::string::npos) << r.err;
+              std::string::npos)
+        << r.err;
     EXPECT_EQ(r.errLines(), 1);
     EXPECT_TRUE(fs::is_empty(d));
 }
@@ -736,8 +794,9 @@ TEST(Cli, ConvertWithALayoutContradictingTheDataWritesNothing) {
 TEST(Cli, ConvertThenInfoRoundTrips) {
     const fs::path d = testDir();
     const std::string vdb = (d / "fieldmap.vdb").string();
-    CliRun r = lobe("convert " + quote(kSource + "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz") +
-                    " " + quote(vdb) + " --name grey");
+    CliRun r =
+        lobe("convert " + quote(kSource + "/assets/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz") +
+             " " + quote(vdb) + " --name grey");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     r = lobe("info " + quote(vdb));
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -761,7 +820,6 @@ TEST(Cli, ConvertThenInfoRoundTrips) {
     EXPECT_NE(r.exitCode, 0);
 }
 
-
 // ---- framing (render/framing.h) -------------------------------------------------------------
 
 // A fitted scene prints its computed camera and lights; --orbit N writes N numbered frames and
@@ -773,10 +831,11 @@ TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
         text.replace(p, 7, "\"" + kSource + "/assets/");
     const fs::path scene = d / "brain-left.json";
     std::ofstream(scene) << text;
-    CliRun r = lobe("render " + quote(scene.string()) + " --orbit 3 --width 16 --spp 1 --quiet --out " +
-                    quote((d / "out").string()));
+    CliRun r = lobe("render " + quote(scene.string()) +
+                    " --orbit 3 --width 16 --spp 1 --quiet --out " + quote((d / "out").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    for (const char* name : {"brain-left-orbit-000", "brain-left-orbit-001", "brain-left-orbit-002"}) {
+    for (const char* name :
+         {"brain-left-orbit-000", "brain-left-orbit-001", "brain-left-orbit-002"}) {
         EXPECT_TRUE(fs::exists(d / "out" / (std::string(name) + ".exr"))) << name;
         EXPECT_TRUE(fs::exists(d / "out" / (std::string(name) + ".png"))) << name;
     }
@@ -814,7 +873,8 @@ TEST(Cli, FittedSceneOrbitWritesNumberedFramesAndASheet) {
     far.insert(c, "\"zoom\": {\"point\": [0, 2000, 0], \"size\": 10}, ");
     std::ofstream(d / "far.json") << far;
     const std::string batch = quote(scene.string()) + " " + quote((d / "far.json").string());
-    r = lobe("render " + batch + " --width 16 --spp 1 --quiet --out " + quote((d / "bad").string()));
+    r = lobe("render " + batch + " --width 16 --spp 1 --quiet --out " +
+             quote((d / "bad").string()));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("far.json: camera.zoom: the zoom's centre is outside the view"),
               std::string::npos)
@@ -835,7 +895,8 @@ TEST(Cli, AnUnknownSceneKeySuggestsTheNearestValidOne) {
     const struct {
         std::string from, to, message;
     } cases[] = {
-        {"\"iso\": 0.5", "\"iso\": 0.5, \"opactiy\": 1", "objects[0].opactiy: unknown key (did you mean 'opacity'?)"},
+        {"\"iso\": 0.5", "\"iso\": 0.5, \"opactiy\": 1",
+         "objects[0].opactiy: unknown key (did you mean 'opacity'?)"},
         {"\"fov_deg\"", "\"fovdeg\"", "camera.fovdeg: unknown key (did you mean 'fov_deg'?)"},
         // The model's own parameters are the candidates inside "brdf".
         {"\"model\": \"ward\"", "\"model\": \"ward\", \"alpha_z\": 0.1",
@@ -853,8 +914,8 @@ TEST(Cli, AnUnknownSceneKeySuggestsTheNearestValidOne) {
 // ---- lobe cost and render --stats -------------------------------------------------------------
 
 // Fields of the CSV row of `run` and `name` (an object, a part or "cpu").
-std::vector<std::string> csvRow(const std::string& csv, const std::string& run, const std::string& row,
-                                const std::string& name) {
+std::vector<std::string> csvRow(const std::string& csv, const std::string& run,
+                                const std::string& row, const std::string& name) {
     std::istringstream in(csv);
     std::string line;
     while (std::getline(in, line)) {
@@ -892,20 +953,23 @@ TEST(Cli, CostTablesAndEvaluationsAcrossModels) {
         EXPECT_EQ(swapped[3], model);
         EXPECT_EQ(swapped[4], own[4]) << model;  // shaded points
         EXPECT_EQ(swapped[5], own[5]) << model;  // BRDF evaluations
-        EXPECT_EQ(csvRow(table, model, "object", "skull")[5], csvRow(table, "scene", "object", "skull")[5]);
+        EXPECT_EQ(csvRow(table, model, "object", "skull")[5],
+                  csvRow(table, "scene", "object", "skull")[5]);
     }
     // The objects' evaluations add up to the run's total.
     long long sum = 0;
-    for (const char* o : {"skull", "cortex", "density map 0", "density map 1", "density map 2",
-                          "density map 3"})
+    for (const char* o :
+         {"skull", "cortex", "density map 0", "density map 1", "density map 2", "density map 3"})
         sum += std::stoll(csvRow(table, "scene", "object", o)[5]);
     EXPECT_EQ(std::to_string(sum), csvRow(table, "scene", "total", "cpu")[5]);
 
-    r = lobe("render " + quote(scene) + " --width 24 --spp 1 --quiet --stats --no-contact-sheets --out " +
+    r = lobe("render " + quote(scene) +
+             " --width 24 --spp 1 --quiet --stats --no-contact-sheets --out " +
              quote((d / "out").string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("cortex (ashikhmin_shirley): " + own[5] + " BRDF evaluations"),
-              std::string::npos) << r.out;
+              std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("shading"), std::string::npos) << r.out;
 }
 
@@ -924,7 +988,8 @@ TEST(Cli, CostRefusesBadModelsAndObjectsBeforeRendering) {
     };
     for (const auto& c : cases) {
         const std::string csv = (d / "c.csv").string();
-        const CliRun r = lobe("cost " + quote(scene) + " --quiet --csv " + quote(csv) + " " + c.args);
+        const CliRun r =
+            lobe("cost " + quote(scene) + " --quiet --csv " + quote(csv) + " " + c.args);
         EXPECT_EQ(r.exitCode, 1) << c.args << ": " << r.err;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << ": " << r.err;
         EXPECT_EQ(r.errLines(), 1) << c.args << ": " << r.err;
@@ -941,21 +1006,26 @@ TEST(Cli, InfoAndConvertReadDicomSeries) {
     const fs::path data = d / "series";
     ASSERT_EQ(std::system((std::string(LOBE_SYSTEM_PYTHON) + " " +
                            quote(kSource + "/tests/volume/make_dicom_series.py") + " " +
-                           quote(data.string())).c_str()),
+                           quote(data.string()))
+                              .c_str()),
               0);
     CliRun r = lobe("info " + quote((data / "two_series").string()));
     EXPECT_EQ(r.exitCode, 1);
-    for (const char* part : {"2 series", "--series", "1.2.826.0.1.3680043.8.498.1111  'first series', 3 slices",
-                             "1.2.826.0.1.3680043.8.498.2222  'second series', 4 slices"})
+    for (const char* part :
+         {"2 series", "--series", "1.2.826.0.1.3680043.8.498.1111  'first series', 3 slices",
+          "1.2.826.0.1.3680043.8.498.2222  'second series', 4 slices"})
         EXPECT_NE(r.err.find(part), std::string::npos) << part << " not in: " << r.err;
-    r = lobe("info " + quote((data / "two_series").string()) + " --series 1.2.826.0.1.3680043.8.498.2222");
+    r = lobe("info " + quote((data / "two_series").string()) +
+             " --series 1.2.826.0.1.3680043.8.498.2222");
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("3 x 2 x 4"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("spacing         1 x 1 x 1"), std::string::npos) << r.out;
 
-    // The files of a series, in any order, then OUT: the oblique CT's first voxel at RAS (40, -25, 110).
+    // The files of a series, in any order, then OUT: the oblique CT's first voxel at RAS (40, -25,
+    // 110).
     std::string files;
-    for (int n = 6; n >= 1; --n) files += quote((data / "ct" / ("IM000" + std::to_string(n))).string()) + " ";
+    for (int n = 6; n >= 1; --n)
+        files += quote((data / "ct" / ("IM000" + std::to_string(n))).string()) + " ";
     const std::string vdb = (d / "ct.vdb").string();
     r = lobe("convert " + files + quote(vdb));
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -975,7 +1045,8 @@ TEST(Cli, InfoAndConvertReadDicomSeries) {
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("convert needs an input and an output"), std::string::npos) << r.err;
     // A DICOM file with a raw layout: refused, not read as voxels.
-    r = lobe("info " + quote((data / "ct" / "IM0001").string()) + " --dims 5,4,1 --type int16 --endian little");
+    r = lobe("info " + quote((data / "ct" / "IM0001").string()) +
+             " --dims 5,4,1 --type int16 --endian little");
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("a DICOM series has its own layout"), std::string::npos) << r.err;
 }

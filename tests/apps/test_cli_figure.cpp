@@ -3,11 +3,13 @@
 // CThead skull as an opaque surface covers the image centre; the corner sees past it), the
 // provenance read back (by OpenImageIO and by `oiiotool --info -v`), the refusals before
 // anything renders, and the warnings for an empty image and an invisible volume.
-#include "core/image_output.h"
 #include "cli_harness.h"
+#include "core/image_output.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -15,8 +17,6 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace {
 
@@ -31,9 +31,13 @@ using lobe::test::readFile;
 
 fs::path testDir() { return lobe::test::testDir("cli_figure"); }
 
-CliRun run(const std::string& command, const fs::path& d) { return lobe::test::runShell(command, d); }
+CliRun run(const std::string& command, const fs::path& d) {
+    return lobe::test::runShell(command, d);
+}
 
-CliRun lobe(const std::string& args, const fs::path& d) { return run(quote(kLobe) + " " + args, d); }
+CliRun lobe(const std::string& args, const fs::path& d) {
+    return run(quote(kLobe) + " " + args, d);
+}
 
 // The CThead skull alone as an opaque surface, seen as in the paper's rendering 1 (the head fills
 // the middle; the corners see the backdrop). `cameraAway`: the camera looks the other way.
@@ -44,12 +48,15 @@ std::string skullScene(const fs::path& d, const std::string& name, bool cameraAw
     std::string text = R"({
  "title": "opaque skull",
  "image": {"width": 32, "height": 32, "samples_per_pixel": 1, "seed": 1},
- "camera": {"position": [505.98, -264.98, 116.0], "target": )" + target + R"(,
+ "camera": {"position": [505.98, -264.98, 116.0], "target": )" +
+                       target + R"(,
             "up": [0, 0, -1], "fov_deg": 30},
  "lights": [{"position": [647.438, -194.233, 266.052], "intensity": 417130.9}],
  "objects": [
   {"name": "skull", "kind": "isosurface",
-   "source": {"path": ")" + kSource + R"(/assets/cthead/cthead.nhdr", "divide_by": 3272, "background": 100},
+   "source": {"path": ")" +
+                       kSource +
+                       R"(/assets/cthead/cthead.nhdr", "divide_by": 3272, "background": 100},
    "iso": 0.5, "opacity": 1.0, "brdf": {"model": "ward"}})" +
                        (extraObject.empty() ? "" : ",\n  " + extraObject) + "\n ]\n}\n";
     const fs::path path = d / name;
@@ -60,7 +67,9 @@ std::string skullScene(const fs::path& d, const std::string& name, bool cameraAw
 struct Rgba {
     int width = 0, height = 0, channels = 0;
     std::vector<unsigned char> data;
-    const unsigned char* at(int x, int y) const { return &data[(size_t(y) * width + x) * channels]; }
+    const unsigned char* at(int x, int y) const {
+        return &data[(size_t(y) * width + x) * channels];
+    }
 };
 
 Rgba readPng(const fs::path& p) {
@@ -165,9 +174,11 @@ TEST(CliFigure, ProvenanceReadsBackFromPngAndExr) {
         EXPECT_EQ(a.at("lobe:seed"), "5") << file;
         EXPECT_EQ(a.at("lobe:scene_file"), scene) << file;
         EXPECT_NE(a.at("lobe:command_line").find(" render "), std::string::npos) << file;
-        EXPECT_NE(a.at("lobe:command_line").find("--seed 5 --png-bits 16"), std::string::npos) << file;
+        EXPECT_NE(a.at("lobe:command_line").find("--seed 5 --png-bits 16"), std::string::npos)
+            << file;
         EXPECT_FALSE(a.at("lobe:version").empty()) << file;
-        EXPECT_NE(a.at("lobe:render_settings").find("32x32 spp 1 seed 5"), std::string::npos) << file;
+        EXPECT_NE(a.at("lobe:render_settings").find("32x32 spp 1 seed 5"), std::string::npos)
+            << file;
         // The same through OpenImageIO's command-line tool.
         const CliRun info = run("oiiotool --info -v " + quote(path.string()), d);
         ASSERT_EQ(info.exitCode, 0) << info.err;
@@ -223,14 +234,18 @@ TEST(CliFigure, EmptyImageAndInvisibleVolumeAreWarnedAbout) {
                          "background; check the camera and the objects)\n");
     // A volume whose transfer function starts far above the data's values (the T1 divided by 255
     // is within [0, 1]): opacity 0 at every voxel.
-    const std::string cortex = R"({"name": "cortex", "kind": "volume",
-   "source": {"path": ")" + kSource + R"(/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz", "divide_by": 255},
+    const std::string cortex =
+        R"({"name": "cortex", "kind": "volume",
+   "source": {"path": ")" +
+        kSource +
+        R"(/assets/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz", "divide_by": 255},
    "transfer_function": {"points": [{"value": 5, "opacity": 0}, {"value": 6, "opacity": 0.2}]},
    "brdf": {"model": "ward"}})";
     const std::string scene = skullScene(d, "tf.json", false, cortex);
     r = lobe("render " + quote(scene) + " --quiet -o " + quote((d / "tf.png").string()), d);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(r.err.find("lobe: warning: " + scene + ": objects[1] (cortex): its transfer function "
+    EXPECT_EQ(r.err.find("lobe: warning: " + scene +
+                         ": objects[1] (cortex): its transfer function "
                          "gives opacity 0 to every voxel of its volume"),
               0u)
         << r.err;
@@ -243,18 +258,21 @@ TEST(CliFigure, EmptyImageAndInvisibleVolumeAreWarnedAbout) {
 // visible values, so the empty-space table did not find it invisible).
 TEST(CliFigure, AForgottenDivideByIsWarnedAbout) {
     const fs::path d = testDir();
-    const std::string scene = skullScene(
-        d, "head.json", false,
-        R"({"name": "head", "kind": "volume", "source": {"path": ")" + kSource +
-            R"(/assets/cthead/cthead.nhdr", "background": 100},
+    const std::string scene =
+        skullScene(d, "head.json", false,
+                   R"({"name": "head", "kind": "volume", "source": {"path": ")" + kSource +
+                       R"(/assets/cthead/cthead.nhdr", "background": 100},
    "transfer_function": {"preset": "cortex_shell"}, "brdf": {"model": "ward"}})");
-    const CliRun r = lobe("render " + quote(scene) + " --quiet --out " + quote((d / "out").string()), d);
+    const CliRun r =
+        lobe("render " + quote(scene) + " --quiet --out " + quote((d / "out").string()), d);
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.err.find("lobe: warning: " + scene + ": objects[1] (head): its transfer function is "
+    EXPECT_NE(r.err.find("lobe: warning: " + scene +
+                         ": objects[1] (head): its transfer function is "
                          "visible only for values "),
               std::string::npos)
         << r.err;
-    EXPECT_NE(r.err.find("but the volume's active voxels hold 101 to 3272"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("but the volume's active voxels hold 101 to 3272"), std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("(a divide_by missing?)"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
@@ -329,7 +347,8 @@ TEST(CliFigure, BandedRenderIsTheWholeRenderBitForBit) {
     }
     // A resumed batch builds the sheet from the EXR on disk, a band at a time: the same sheet.
     fs::rename(d / "whole" / "contact-sheet-poster.png", d / "rendered-sheet.png");
-    const CliRun resumed = lobe(common + "--skip-existing --out " + quote((d / "whole").string()), d);
+    const CliRun resumed =
+        lobe(common + "--skip-existing --out " + quote((d / "whole").string()), d);
     ASSERT_EQ(resumed.exitCode, 0) << resumed.err;
     // By pixels: the sheet's provenance names its own command line.
     expectSamePixels(d / "whole" / "contact-sheet-poster.png", d / "rendered-sheet.png");
@@ -391,7 +410,8 @@ TEST(CliFigure, InterruptedPosterLeavesNoFileAndKeepsTheOldOne) {
     EXPECT_NE(r.out.find("seen"), std::string::npos) << r.out << r.err;
     EXPECT_NE(r.out.find("status 143"), std::string::npos) << r.out << r.err;  // ended by SIGTERM
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(d / "out")) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(d / "out"))
+        names.push_back(e.path().filename().string());
     EXPECT_EQ(names, std::vector<std::string>{"fig.png"});
     EXPECT_EQ(readFile(d / "out" / "fig.png"), "an earlier figure");
 }
@@ -425,7 +445,8 @@ TEST(CliFigure, KilledPostersTemporariesAreRemovedByTheNextRun) {
     EXPECT_EQ(next.errLines(), 1) << next.err;
     EXPECT_NE(next.err.find("lobe: removed 2 temporary files"), std::string::npos) << next.err;
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(d / "out")) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(d / "out"))
+        names.push_back(e.path().filename().string());
     EXPECT_EQ(names, std::vector<std::string>{"other.png"});
 }
 
@@ -436,17 +457,21 @@ TEST(CliFigure, OutputPairIsCheckedBeforeTheFirstRename) {
     const fs::path d = testDir();
     const std::string scene = skullScene(d, "skull.json");
     fs::create_directories(d / "out" / "skull.exr");
-    const CliRun fresh = lobe("render " + quote(scene) + " --quiet --out " + quote((d / "out").string()), d);
+    const CliRun fresh =
+        lobe("render " + quote(scene) + " --quiet --out " + quote((d / "out").string()), d);
     EXPECT_EQ(fresh.exitCode, 1) << fresh.err;
     EXPECT_EQ(fresh.errLines(), 1) << fresh.err;
     EXPECT_NE(fresh.err.find("skull.exr': a folder of that name exists"), std::string::npos)
         << fresh.err;
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(d / "out")) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(d / "out"))
+        names.push_back(e.path().filename().string());
     EXPECT_EQ(names, std::vector<std::string>{"skull.exr"});
     // An earlier PNG is kept as it was.
     std::ofstream(d / "out" / "skull.png") << "an earlier figure";
-    EXPECT_EQ(lobe("render " + quote(scene) + " --quiet --out " + quote((d / "out").string()), d).exitCode, 1);
+    EXPECT_EQ(lobe("render " + quote(scene) + " --quiet --out " + quote((d / "out").string()), d)
+                  .exitCode,
+              1);
     EXPECT_EQ(readFile(d / "out" / "skull.png"), "an earlier figure");
 }
 

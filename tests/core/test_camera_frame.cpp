@@ -55,9 +55,9 @@ TEST(Camera, BadSetupsAreErrors) {
     EXPECT_THROW(PinholeCamera(Vec3(0), Vec3(0), Vec3(0, 1, 0), 40, 1), Error);
     EXPECT_THROW(PinholeCamera(Vec3(0, 0, 4), Vec3(0), Vec3(0, 0, 1), 40, 1), Error);
     EXPECT_THROW(PinholeCamera(Vec3(0, 0, 4), Vec3(0), Vec3(0, 1, 0), 0, 1), Error);
-    EXPECT_THROW(PinholeCamera(Vec3(0, 0, 4), Vec3(0), Vec3(0, 1, 0), 40, 1,
-                               CropWindow{0.5, 0, 0.4, 1}),
-                 Error);
+    EXPECT_THROW(
+        PinholeCamera(Vec3(0, 0, 4), Vec3(0), Vec3(0, 1, 0), 40, 1, CropWindow{0.5, 0, 0.4, 1}),
+        Error);
 }
 
 }  // namespace lobe

@@ -39,7 +39,8 @@ fs::path testDir() {
 
 TEST(Utf8, DecodesTwoThreeAndFourByteCharacters) {
     // é = C3 A9 (U+00E9), μ = CE BC (U+03BC), € = E2 82 AC (U+20AC), 😀 = F0 9F 98 80 (U+1F600).
-    const std::vector<char32_t> cps = lobe::decodeUtf8("a\xC3\xA9\xCE\xBC\xE2\x82\xAC\xF0\x9F\x98\x80");
+    const std::vector<char32_t> cps =
+        lobe::decodeUtf8("a\xC3\xA9\xCE\xBC\xE2\x82\xAC\xF0\x9F\x98\x80");
     EXPECT_EQ(cps, (std::vector<char32_t>{U'a', 0xE9, 0x3BC, 0x20AC, 0x1F600}));
 }
 
@@ -56,7 +57,8 @@ TEST(Utf8, InvalidBytesBecomeReplacementCharacters) {
 
 TEST(Utf8, AsciiEscapesAreJsonEscapes) {
     EXPECT_EQ(lobe::asciiEscaped("{\"t\": \"\xC3\xA9 \xCE\xBC\"}"), "{\"t\": \"\\u00e9 \\u03bc\"}");
-    EXPECT_EQ(lobe::asciiEscaped("\xF0\x9F\x98\x80"), "\\ud83d\\ude00");  // surrogate pair of U+1F600
+    EXPECT_EQ(lobe::asciiEscaped("\xF0\x9F\x98\x80"),
+              "\\ud83d\\ude00");  // surrogate pair of U+1F600
     EXPECT_EQ(lobe::asciiEscaped("a\\b\n"), "a\\b\n");
 }
 
@@ -72,13 +74,15 @@ RgbImage directGlyph(char32_t cp, int w, int h, int x, int y, int size) {
     EXPECT_EQ(FT_Init_FreeType(&lib), 0);
     EXPECT_EQ(FT_New_Face(lib, kFont, 0, &face), 0);
     FT_Set_Pixel_Sizes(face, 0, FT_UInt(size));
-    EXPECT_NE(FT_Get_Char_Index(face, FT_ULong(cp)), 0u) << "DejaVu Sans lacks U+" << std::hex << cp;
+    EXPECT_NE(FT_Get_Char_Index(face, FT_ULong(cp)), 0u)
+        << "DejaVu Sans lacks U+" << std::hex << cp;
     EXPECT_EQ(FT_Load_Char(face, FT_ULong(cp), FT_LOAD_RENDER), 0);
     RgbImage img(w, h);
     const FT_Bitmap& bm = face->glyph->bitmap;
     for (unsigned r = 0; r < bm.rows; ++r)
         for (unsigned c = 0; c < bm.width; ++c) {
-            const int px = x + face->glyph->bitmap_left + int(c), py = y - face->glyph->bitmap_top + int(r);
+            const int px = x + face->glyph->bitmap_left + int(c),
+                      py = y - face->glyph->bitmap_top + int(r);
             if (px < 0 || py < 0 || px >= w || py >= h) continue;
             const float v = bm.buffer[int(r) * bm.pitch + int(c)] / 255.0f;
             for (int k = 0; k < 3; ++k) img.pixel(px, py)[k] = v;
@@ -90,7 +94,8 @@ RgbImage directGlyph(char32_t cp, int w, int h, int x, int y, int size) {
 
 double maxDifference(const RgbImage& a, const RgbImage& b) {
     double m = 0.0;
-    for (size_t i = 0; i < a.rgb.size(); ++i) m = std::max(m, double(std::abs(a.rgb[i] - b.rgb[i])));
+    for (size_t i = 0; i < a.rgb.size(); ++i)
+        m = std::max(m, double(std::abs(a.rgb[i] - b.rgb[i])));
     return m;
 }
 
@@ -141,7 +146,8 @@ TEST(Caption, SecondCharacterFollowsTheFirstsAdvance) {
     for (size_t i = 0; i < composed.rgb.size(); ++i)
         composed.rgb[i] = float(a.rgb[i] * (1.0 - mu.rgb[i]) + mu.rgb[i]);
     EXPECT_LT(maxDifference(both, composed), 1e-6);
-    EXPECT_EQ(lobe::textWidth("a\xCE\xBC", 24), lobe::textWidth("a", 24) + lobe::textWidth("\xCE\xBC", 24));
+    EXPECT_EQ(lobe::textWidth("a\xCE\xBC", 24),
+              lobe::textWidth("a", 24) + lobe::textWidth("\xCE\xBC", 24));
 }
 
 TEST(Caption, MissingGlyphAndInvalidBytesAreBoxes) {
@@ -170,7 +176,9 @@ TEST(Caption, MissingGlyphAndInvalidBytesAreBoxes) {
 
 // ---- integer formats, alpha, attributes --------------------------------------------------------
 
-double srgb(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
+double srgb(double v) {
+    return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+}
 
 TEST(ImageOutput, SixteenBitPngKeepsWhatEightBitsRound) {
     const fs::path d = testDir();
@@ -220,7 +228,7 @@ TEST(ImageOutput, AlphaIsStraightInPngAndAssociatedInExr) {
     EXPECT_EQ(px[3], 255);
     EXPECT_EQ(px[0], std::lround(srgb(0.8) * 255));
     EXPECT_EQ(px[4], std::lround(srgb(0.5) * 255));  // 0.25 / 0.5
-    EXPECT_EQ(px[7], 128);                          // 0.5 · 255 = 127.5, rounded half up
+    EXPECT_EQ(px[7], 128);                           // 0.5 · 255 = 127.5, rounded half up
     EXPECT_EQ(px[8], 0);
     EXPECT_EQ(px[11], 0);
 
@@ -246,7 +254,8 @@ TEST(ImageOutput, AlphaIsStraightInPngAndAssociatedInExr) {
     EXPECT_FALSE(fs::exists(d / "a.jpg"));
 }
 
-// ---- band by band (posters) ----------------------------------------------------------------------
+// ---- band by band (posters)
+// ----------------------------------------------------------------------
 
 // Reads every sample of an image file as stored (integers as 0…255/65535, floats as they are).
 std::vector<float> samplesOf(const fs::path& p, int* channels = nullptr) {
@@ -259,7 +268,8 @@ std::vector<float> samplesOf(const fs::path& p, int* channels = nullptr) {
     const bool integer = spec.format != OIIO::TypeDesc::FLOAT;
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data())) return {};
     if (integer)  // back to the stored integers: exact in a float
-        for (float& v : data) v = std::round(v * (spec.format == OIIO::TypeDesc::UINT16 ? 65535.0f : 255.0f));
+        for (float& v : data)
+            v = std::round(v * (spec.format == OIIO::TypeDesc::UINT16 ? 65535.0f : 255.0f));
     if (channels) *channels = spec.nchannels;
     return data;
 }
@@ -272,7 +282,8 @@ struct Sample7x5 {
     Sample7x5() {
         for (int i = 0; i < 35; ++i) {
             alpha[size_t(i)] = float(i % 6) / 5.0f;
-            for (int c = 0; c < 3; ++c) rgb.rgb[size_t(i) * 3 + size_t(c)] = alpha[size_t(i)] * float(i + c) / 40.0f;
+            for (int c = 0; c < 3; ++c)
+                rgb.rgb[size_t(i) * 3 + size_t(c)] = alpha[size_t(i)] * float(i + c) / 40.0f;
             film.at(i % 7, i / 7) = lobe::Spectrum(0.01 * i, 0.02 * i, 0.5 - 0.01 * i);
         }
     }
@@ -360,7 +371,8 @@ TEST(ImageBandWriter, RgbBandsReadBackAsWritten) {
         lobe::forEachRgbBand((d / "xyz.exr").string(), 14, [](lobe::RgbImage&, int) {});
         ADD_FAILURE() << "no error for an image without R";
     } catch (const lobe::Error& e) {
-        EXPECT_NE(std::string(e.what()).find("xyz.exr: no channel R"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("xyz.exr: no channel R"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -416,7 +428,9 @@ TEST(ImageOutput, AttributesReadBackFromPngAndExr) {
     RgbImage img(2, 2);
     lobe::ImageWriteOptions o;
     const std::string json = "{\n \"title\": \"\\u00e9 \\u03bc\",\n \"image\": {\"seed\": 3}\n}\n";
-    o.attributes = {{"lobe:scene_json", json}, {"lobe:seed", "3"}, {"lobe:command_line", "lobe render 'a b.json'"}};
+    o.attributes = {{"lobe:scene_json", json},
+                    {"lobe:seed", "3"},
+                    {"lobe:command_line", "lobe render 'a b.json'"}};
     lobe::writeImagePending((d / "a.png").string(), img, o).commit();
     lobe::Film film(2, 2);
     lobe::writeFilmPending((d / "a.exr").string(), film, 1.0, {}, o).commit();
@@ -462,7 +476,8 @@ TEST(ImageOutput, CommitAllUndoesEarlierRenamesWhenALaterFails) {
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     EXPECT_EQ(text, "an earlier figure");
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(d / "a")) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(d / "a"))
+        names.push_back(e.path().filename().string());
     EXPECT_EQ(names, std::vector<std::string>{"x.png"});  // no new.png, no temporary, no backup
     // A folder where a file goes: refused before any rename.
     fs::create_directories(d / "c" / "y.exr");
@@ -473,7 +488,8 @@ TEST(ImageOutput, CommitAllUndoesEarlierRenamesWhenALaterFails) {
         EXPECT_THROW(lobe::PendingImage::commitAll(files), lobe::Error);
     }
     names.clear();
-    for (const auto& e : fs::directory_iterator(d / "c")) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(d / "c"))
+        names.push_back(e.path().filename().string());
     EXPECT_EQ(names, std::vector<std::string>{"y.exr"});
 }
 

@@ -4,7 +4,6 @@
 #include "core/interrupt.h"
 
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,8 +22,8 @@ fs::path touch(const fs::path& p) {
 }
 
 void interruptWhileWriting(int signal) {
-    const fs::path dir = fs::path(LOBE_BINARY_DIR) / "test-output" / "interrupt" /
-                         std::to_string(signal);
+    const fs::path dir =
+        fs::path(LOBE_BINARY_DIR) / "test-output" / "interrupt" / std::to_string(signal);
     fs::remove_all(dir);
     fs::create_directories(dir);
     const pid_t child = fork();

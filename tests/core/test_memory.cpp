@@ -6,7 +6,6 @@
 #include "core/memory.h"
 
 #include <gtest/gtest.h>
-
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -100,15 +99,18 @@ TEST(Memory, AddressSpaceLimitIsTheBudget) {
     ::close(pipeFds[1]);
     std::string report;
     char buffer[512];
-    for (ssize_t n; (n = ::read(pipeFds[0], buffer, sizeof buffer)) > 0;) report.append(buffer, size_t(n));
+    for (ssize_t n; (n = ::read(pipeFds[0], buffer, sizeof buffer)) > 0;)
+        report.append(buffer, size_t(n));
     ::close(pipeFds[0]);
     int status = 0;
     ::waitpid(child, &status, 0);
     if (memoryBudget().bytes < double(1u << 30)) GTEST_SKIP() << "less than 1 GiB of memory here";
-    EXPECT_EQ(report.rfind("1073741824|the address-space limit, ulimit -v (RLIMIT_AS)|", 0), 0u) << report;
-    EXPECT_NE(report.find("the test buffer needs 0.6 GB, more than half of the 1.07 GB this process "
-                          "may use (the address-space limit, ulimit -v (RLIMIT_AS))"),
-              std::string::npos)
+    EXPECT_EQ(report.rfind("1073741824|the address-space limit, ulimit -v (RLIMIT_AS)|", 0), 0u)
+        << report;
+    EXPECT_NE(
+        report.find("the test buffer needs 0.6 GB, more than half of the 1.07 GB this process "
+                    "may use (the address-space limit, ulimit -v (RLIMIT_AS))"),
+        std::string::npos)
         << report;
 }
 

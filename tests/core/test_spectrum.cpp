@@ -3,10 +3,10 @@
 #include "core/rgb_image.h"
 #include "core/spectrum.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
-
-#include <gtest/gtest.h>
 
 namespace lobe {
 namespace {

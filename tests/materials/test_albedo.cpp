@@ -3,10 +3,9 @@
 // measured not by the quadrature that computed the scale but by analysis/properties.h's Monte
 // Carlo estimator (multiple importance sampling over three densities, independent replicas).
 #include "analysis/properties.h"
+#include "core/error.h"
 #include "materials/albedo.h"
 #include "materials/registry.h"
-
-#include "core/error.h"
 
 #include <gtest/gtest.h>
 

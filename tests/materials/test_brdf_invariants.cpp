@@ -11,8 +11,8 @@
 //  * the directional albedo: finite and ≥ 0 over θi up to 89°, and the importance-sampled
 //    estimator (analysis/properties.cpp) agrees with plain uniform-hemisphere sampling.
 // Slow models (Poulin–Fournier) run sampleScale(model) times the pairs (properties.cpp).
-#include "core/rng.h"
 #include "analysis/properties.h"
+#include "core/rng.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>
@@ -131,9 +131,9 @@ TEST_P(Invariants, SpecialPairs) {
     for (int i = 0; i < 20000; ++i) {
         Vec3 wi = uniformSphere(rng);
         if (i % 2) wi = Vec3(wi.x, wi.y, std::abs(wi.z) * 1e-6).normalized();  // near-grazing half
-        ASSERT_TRUE(validValue(brdf, wi, wi));               // wi = wo
-        ASSERT_TRUE(validValue(brdf, wi, mirrorLocal(wi)));  // mirror pair
-        ASSERT_TRUE(validValue(brdf, wi, -wi));              // h undefined
+        ASSERT_TRUE(validValue(brdf, wi, wi));                                 // wi = wo
+        ASSERT_TRUE(validValue(brdf, wi, mirrorLocal(wi)));                    // mirror pair
+        ASSERT_TRUE(validValue(brdf, wi, -wi));                                // h undefined
         ASSERT_TRUE(validValue(brdf, wi, n));
         ASSERT_TRUE(validValue(brdf, n, wi));
     }
@@ -178,7 +178,8 @@ TEST_P(Invariants, ReciprocityWhereTheDefinitionImpliesIt) {
     }
 }
 
-// ---- Directional albedo --------------------------------------------------------------------------
+// ---- Directional albedo
+// --------------------------------------------------------------------------
 
 // Plain Monte Carlo with wo uniform on the hemisphere (pdf 1/2π): unbiased for any f, sharing no
 // code with the importance-sampled estimator it checks.
@@ -202,16 +203,16 @@ TEST_P(Invariants, DirectionalAlbedoIsFiniteAndEstimatorsAgree) {
     const int n = scaledCount(model, 200000);
     for (double thetaDeg : {0.0, 30.0, 60.0, 80.0, 89.0}) {
         const double theta = radians(thetaDeg);
-        const SpectrumEstimate a = directionalAlbedo(brdf, theta, 0.3, scaledCount(model, 32768),
-                                                     8, 77 + uint64_t(thetaDeg));
+        const SpectrumEstimate a = directionalAlbedo(brdf, theta, 0.3, scaledCount(model, 32768), 8,
+                                                     77 + uint64_t(thetaDeg));
         // The bands agree at the defaults of every model (no per-band default), so compare the
         // band maximum with the uniform estimator's band maximum.
         const double value = a.value.maxValue();
         ASSERT_TRUE(std::isfinite(value)) << model << " θi " << thetaDeg;
         EXPECT_GE(value, 0.0) << model << " θi " << thetaDeg;
         const Estimate u = uniformAlbedo(
-            brdf, Vec3(std::sin(theta) * std::cos(0.3), std::sin(theta) * std::sin(0.3),
-                       std::cos(theta)),
+            brdf,
+            Vec3(std::sin(theta) * std::cos(0.3), std::sin(theta) * std::sin(0.3), std::cos(theta)),
             n, 1000 + uint64_t(thetaDeg));
         const double sigma = std::hypot(a.stdError.maxValue(), u.stdError);
         EXPECT_NEAR(value, u.value, 5.0 * sigma + 1e-12)
@@ -229,12 +230,9 @@ INSTANTIATE_TEST_SUITE_P(AllModels, Invariants, ::testing::ValuesIn(registeredNa
 // than a double holds, so it is clamped (an image shows white, not an Inf or a black hole).
 TEST(BrdfInvariants, FiniteAtEveryParameterExtremeAndDirection) {
     const std::vector<std::pair<Vec3, Vec3>> pairs = {
-        {{0, 0, 1}, {0, 0, 1}},
-        {{1, 0, 1e-300}, {-1, 0, 1e-300}},
-        {{1, 0, 1e-300}, {1, 0, 1e-300}},
-        {{1, 0, 1e-12}, {0, 1, 1e-12}},
-        {{0.6, 0, 0.8}, {-0.6, 0, 0.8}},
-        {{0.6, 0, 0.8}, {0.6, 0, 0.8}},
+        {{0, 0, 1}, {0, 0, 1}},           {{1, 0, 1e-300}, {-1, 0, 1e-300}},
+        {{1, 0, 1e-300}, {1, 0, 1e-300}}, {{1, 0, 1e-12}, {0, 1, 1e-12}},
+        {{0.6, 0, 0.8}, {-0.6, 0, 0.8}},  {{0.6, 0, 0.8}, {0.6, 0, 0.8}},
         {{0, 0.6, 0.8}, {0, 0.8, 0.6}},
     };
     for (const BrdfModelInfo& model : brdfModels()) {

@@ -87,7 +87,8 @@ TEST(HeTorranceReference, SeriesDMatchesTheDefinitionOverRandomArguments) {
         const double d = HeTorrance::distributionD(g, vxy2, tau);
         const double r = seriesByDefinition(g, vxy2, tau);
         ASSERT_TRUE(std::isfinite(d) && d >= 0.0) << "g " << g << " a " << a;
-        EXPECT_LE(std::abs(d - r), allowed(g) * r + 1e-300) << "g " << g << " a " << a << " tau " << tau;
+        EXPECT_LE(std::abs(d - r), allowed(g) * r + 1e-300)
+            << "g " << g << " a " << a << " tau " << tau;
         if (r > 0.0) worst = std::max(worst, std::abs(d - r) / r);
     }
     std::printf("largest relative difference from the definition: %.3g\n", worst);
@@ -125,9 +126,10 @@ TEST(HeTorranceReference, StridedSumsAreNoWorseThanTheUnitWalk) {
     }
     // Most draws spread wide enough to stride; a run that never strides tests nothing.
     EXPECT_GT(strided, draws / 2);
-    std::printf("%d of %d draws strided; largest relative difference from the definition: "
-                "strided %.3g, unit walk %.3g\n",
-                strided, draws, worstStrided, worstUnit);
+    std::printf(
+        "%d of %d draws strided; largest relative difference from the definition: "
+        "strided %.3g, unit walk %.3g\n",
+        strided, draws, worstStrided, worstUnit);
 }
 
 // The doc's series under its own stopping rule, in 50-digit arithmetic (python3 + mpmath):
@@ -167,9 +169,9 @@ TEST(HeTorranceReference, SeriesDMatchesHighPrecisionValuesOfTheRule) {
     };
     const Case cases[] = {
         {1.6e6, 0.0, 0.00015421266510486201},    {1.6e6, 987.0, 0.00015411756438386221},
-        {2e5, 3.9e7, 2.780745977751942e-88},      {2.5e4, 3948.0, 0.0084280686187229647},
-        {900.0, 1e5, 4.0013906646949721e-47},     {158.0, 987.0, 0.0031755618342940173},
-        {0.05, 3948.0, 1.6111708836300001e-125},  {3.0, 60.0, 0.00058624138311903002},
+        {2e5, 3.9e7, 2.780745977751942e-88},     {2.5e4, 3948.0, 0.0084280686187229647},
+        {900.0, 1e5, 4.0013906646949721e-47},    {158.0, 987.0, 0.0031755618342940173},
+        {0.05, 3948.0, 1.6111708836300001e-125}, {3.0, 60.0, 0.00058624138311903002},
     };
     for (const Case& c : cases) {
         const double tau = 10.0, vxy2 = 4.0 * c.a / (tau * tau);
@@ -179,7 +181,6 @@ TEST(HeTorranceReference, SeriesDMatchesHighPrecisionValuesOfTheRule) {
             << "g " << c.g << " a " << c.a;
     }
 }
-
 
 // --- Bounded cost (issue 32) ---------------------------------------------------------------------
 // Every evaluation sums at most a bounded number of series terms, whatever the directions and
@@ -212,7 +213,8 @@ TEST(HeTorranceCost, TheFuzzFindingIsCheapAndZero) {
 TEST(HeTorranceCost, EveryEvaluationStaysWithinItsTermBudget) {
     // Heights 1e-300 … 1 above the horizon for both directions, at azimuths apart by 0, 90 and
     // 180 degrees, with σ0/λ and τ/λ at the ends and the middle of their ranges.
-    const double heights[] = {1e-300, 1e-200, 1e-161, 1e-100, 1e-30, 1e-12, 1e-6, 1e-3, 0.05, 0.5, 1.0};
+    const double heights[] = {1e-300, 1e-200, 1e-161, 1e-100, 1e-30, 1e-12,
+                              1e-6,   1e-3,   0.05,   0.5,    1.0};
     const double azimuths[] = {0.0, 0.5 * kPi, kPi};
     std::uint64_t most = 0;
     int evaluations = 0;
@@ -230,7 +232,8 @@ TEST(HeTorranceCost, EveryEvaluationStaysWithinItsTermBudget) {
                         ++evaluations;
                         most = std::max(most, terms);
                         EXPECT_LE(terms, 3 * kTermBudgetPerBand)
-                            << "sigma0 " << sigma0 << " tau " << tau << " zi " << zi << " zo " << zo;
+                            << "sigma0 " << sigma0 << " tau " << tau << " zi " << zi << " zo "
+                            << zo;
                         for (int b = 0; b < kBandCount; ++b)
                             ASSERT_TRUE(std::isfinite(f[b]) && f[b] >= 0.0);
                     }

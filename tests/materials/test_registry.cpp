@@ -23,9 +23,9 @@ TEST(Registry, KnowsEveryModelByName) {
 // `lobe brdf props` and the flux-overlap ranking all iterate this list, so its content and order
 // are part of the interface.
 TEST(Registry, HoldsTheNineSpecularModelsInThePapersOrderThenLambert) {
-    const std::vector<std::string> nine = {"phong",           "strauss",     "schlick_lewis",
-                                           "ward",            "cook_torrance", "poulin_fournier",
-                                           "he_torrance",     "lafortune",   "ashikhmin_shirley"};
+    const std::vector<std::string> nine = {"phong",       "strauss",       "schlick_lewis",
+                                           "ward",        "cook_torrance", "poulin_fournier",
+                                           "he_torrance", "lafortune",     "ashikhmin_shirley"};
     std::vector<std::string> registered;
     for (const BrdfModelInfo& model : brdfModels()) registered.push_back(model.name);
     std::vector<std::string> expected = nine;

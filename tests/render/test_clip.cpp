@@ -143,7 +143,8 @@ TEST(Clip, IntervalsOfPlanesAndBoxesByHand) {
     EXPECT_DOUBLE_EQ(iv.v[1].lo.t, 6.0);
     EXPECT_EQ(iv.v[1].lo.normal, Vec3(-1, 0, 0));
     // The intersection of both lists: the cut-away box and the plane x ≥ 5 leave [6, ∞).
-    iv = clipRay(r, {box(Vec3(2, -1, -1), Vec3(6, 1, 1), true), plane(Vec3(5, 0, 0), Vec3(1, 0, 0))});
+    iv = clipRay(r,
+                 {box(Vec3(2, -1, -1), Vec3(6, 1, 1), true), plane(Vec3(5, 0, 0), Vec3(1, 0, 0))});
     ASSERT_EQ(iv.count, 1);
     EXPECT_DOUBLE_EQ(iv.v[0].lo.t, 6.0);
     // A box the ray misses, kept inside: nothing.
@@ -162,8 +163,8 @@ TEST(Clip, IntervalsOfPlanesAndBoxesByHand) {
 // --- Clipped surfaces: hit distances -----------------------------------------------------
 
 // The first hit of `ray` on a scene of one object, clipped by `shapes`; -1 when none.
-double firstHit(const std::shared_ptr<const SurfaceGeometry>& g, const std::vector<ClipShape>& shapes,
-                const Ray& ray) {
+double firstHit(const std::shared_ptr<const SurfaceGeometry>& g,
+                const std::vector<ClipShape>& shapes, const Ray& ray) {
     SurfaceScene scene;
     const int id = scene.add(g);
     scene.setClip(id, shapes);
@@ -203,9 +204,12 @@ TEST(Clip, ClippedSphereHitsTheKeptPartOnly) {
         for (const double h : {0.0, 6.0, 10.0, 11.5}) {
             const Ray r = rayOf(Vec3(-10, kCentre.y + h, kCentre.z), Vec3(1, 0, 0));
             const double half = std::sqrt(kRadius * kRadius - h * h);
-            const double got = firstHit(methods[m], {plane(kCentre + Vec3(5, 0, 0), Vec3(1, 0, 0))}, r);
-            if (half > 5.0 + 0.1) EXPECT_NEAR(got, 10 + kCentre.x + half, grazing[m]) << "h = " << h;
-            else EXPECT_EQ(got, -1.0) << "h = " << h;
+            const double got =
+                firstHit(methods[m], {plane(kCentre + Vec3(5, 0, 0), Vec3(1, 0, 0))}, r);
+            if (half > 5.0 + 0.1)
+                EXPECT_NEAR(got, 10 + kCentre.x + half, grazing[m]) << "h = " << h;
+            else
+                EXPECT_EQ(got, -1.0) << "h = " << h;
         }
     }
 }
@@ -262,9 +266,9 @@ std::string sceneText(const std::string& objects, const std::string& extra = "",
 
 std::string boxSurface(const std::string& clip = "", double opacity = 1.0) {
     return R"({"kind": "isosurface", "source": {"path": "box.raw", "dims": [32, 32, 32],
-               "type": "float32"}, "iso": 0.5, "opacity": )" + std::to_string(opacity) +
-           R"(, "brdf": {"model": "lambert"}, "kd": 0.7)" + (clip.empty() ? "" : ", \"clip\": " + clip) +
-           "}";
+               "type": "float32"}, "iso": 0.5, "opacity": )" +
+           std::to_string(opacity) + R"(, "brdf": {"model": "lambert"}, "kd": 0.7)" +
+           (clip.empty() ? "" : ", \"clip\": " + clip) + "}";
 }
 
 std::vector<Recorder::Event> eventsOf(const SceneSpec& spec, const Ray& ray) {
@@ -278,14 +282,17 @@ std::vector<Recorder::Event> eventsOf(const SceneSpec& spec, const Ray& ray) {
     return rec.events;
 }
 
-SceneSpec parse(const std::string& text) { return parseScene(text, dataDir().string(), "clip.json"); }
+SceneSpec parse(const std::string& text) {
+    return parseScene(text, dataDir().string(), "clip.json");
+}
 
 TEST(Clip, CapsCloseTheCutSolidWithTheBoundaryNormal) {
     // The solid [7.5, 23.5]³ cut by the plane x = 12 keeping x ≥ 12, with a cap: a ray along +x
     // at (y, z) = (12.2, 14.7) meets the cap at x = 12 (t = 12) with normal −x (out of the kept
     // solid, into the cut-away side), then the back face at x = 23.5 (normal +x).
     const Ray ray = rayOf(Vec3(0, 12.2, 14.7), Vec3(1, 0, 0));
-    const std::string cap = R"([{"plane": {"point": [12, 0, 0], "normal": [1, 0, 0]}, "cap": true}])";
+    const std::string cap =
+        R"([{"plane": {"point": [12, 0, 0], "normal": [1, 0, 0]}, "cap": true}])";
     auto ev = eventsOf(parse(sceneText(boxSurface(cap, 0.5))), ray);
     ASSERT_EQ(ev.size(), 2u);
     EXPECT_NEAR(ev[0].t, 12.0, 1e-12);
@@ -305,7 +312,8 @@ TEST(Clip, CapsCloseTheCutSolidWithTheBoundaryNormal) {
     // the normal −y (into the box), then the back face at y = 23.5.
     const std::string corner =
         R"("clip": [{"box": {"min": [-1, -1, -1], "max": [16, 16, 40]}, "invert": true, "cap": true}],)";
-    ev = eventsOf(parse(sceneText(boxSurface("", 0.5), corner)), rayOf(Vec3(10, 0, 14.7), Vec3(0, 1, 0)));
+    ev = eventsOf(parse(sceneText(boxSurface("", 0.5), corner)),
+                  rayOf(Vec3(10, 0, 14.7), Vec3(0, 1, 0)));
     ASSERT_EQ(ev.size(), 2u);
     EXPECT_NEAR(ev[0].t, 16.0, 1e-12);
     EXPECT_NEAR(ev[0].normal.y, -1.0, 1e-12);
@@ -332,7 +340,8 @@ TEST(Clip, CapsCloseTheCutSolidWithTheBoundaryNormal) {
 std::string slab(double alpha, const std::string& clip = "") {
     return R"({"kind": "volume", "source": {"path": "box.raw", "dims": [32, 32, 32],
                "type": "float32"}, "transfer_function": {"points": [{"value": 0.5, "opacity": 0},
-               {"value": 0.5, "opacity": )" + std::to_string(alpha) +
+               {"value": 0.5, "opacity": )" +
+           std::to_string(alpha) +
            R"(, "color": [1, 1, 1]}]}, "brdf": {"model": "lambert"}, "kd": 0.5)" +
            (clip.empty() ? "" : ", \"clip\": " + clip) + "}";
 }
@@ -362,7 +371,8 @@ TEST(Clip, ClippedSlabOpacityFollowsTheClippedLength) {
     const Ray ray = rayOf(Vec3(0, 12.2, 14.7), Vec3(1, 0, 0));
     const auto want = [&](double length) { return 1.0 - std::pow(1.0 - alpha, length); };
     const std::string half = R"([{"plane": {"point": [12.25, 0, 0], "normal": [1, 0, 0]}}])";
-    const std::string hole = R"([{"box": {"min": [14, 0, 0], "max": [18, 32, 32]}, "invert": true}])";
+    const std::string hole =
+        R"([{"box": {"min": [14, 0, 0], "max": [18, 32, 32]}, "invert": true}])";
     for (const double jitter : {0.1, 0.5, 0.93}) {
         SCOPED_TRACE("jitter " + std::to_string(jitter));
         EXPECT_NEAR(opacityAlong(parse(sceneText(slab(alpha))), ray, jitter), want(16.0),
@@ -373,8 +383,9 @@ TEST(Clip, ClippedSlabOpacityFollowsTheClippedLength) {
         EXPECT_NEAR(opacityAlong(parse(sceneText(slab(alpha, hole))), ray, jitter), want(12.0),
                     4 * sigma * 0.1);
         // The same cut given scene-wide.
-        EXPECT_NEAR(opacityAlong(parse(sceneText(slab(alpha), R"("clip": )" + hole + ",")), ray, jitter),
-                    want(12.0), 4 * sigma * 0.1);
+        EXPECT_NEAR(
+            opacityAlong(parse(sceneText(slab(alpha), R"("clip": )" + hole + ",")), ray, jitter),
+            want(12.0), 4 * sigma * 0.1);
     }
     // The lengths differ by far more than the tolerances: an unclipped march fails both.
     EXPECT_GT(want(16.0) - want(12.0), 3 * 4 * sigma * 0.1);
@@ -394,8 +405,9 @@ TEST(Clip, SkippingAndThreadsDoNotChangeAClippedRender) {
     const std::string clip =
         R"("clip": [{"box": {"min": [-1, -1, 14], "max": [16, 40, 40]}, "invert": true, "cap": true},
                     {"plane": {"point": [0, 0, 9], "normal": [0, 0.2, 1]}}],)";
-    const std::string objects = slab(0.05) + "," + boxSurface(
-        R"([{"plane": {"point": [20, 0, 0], "normal": [-1, 0, 0]}, "cap": true}])", 0.4);
+    const std::string objects =
+        slab(0.05) + "," +
+        boxSurface(R"([{"plane": {"point": [20, 0, 0], "normal": [-1, 0, 0]}, "cap": true}])", 0.4);
     const SceneSpec on = parse(sceneText(objects, clip));
     const SceneSpec off = parse(sceneText(objects, clip, R"(, "empty_space_skipping": false)"));
     const Film a = renderOf(on, 1), b = renderOf(on, 2), c = renderOf(off, 2);
@@ -421,7 +433,8 @@ TEST(Clip, SceneFileErrorsNameTheKey) {
         }
         return std::string();
     };
-    EXPECT_NE(error(R"([{"plane": {"point": [0, 0, 0], "normal": [0, 0, 0]}}])").find("clip[0].plane.normal"),
+    EXPECT_NE(error(R"([{"plane": {"point": [0, 0, 0], "normal": [0, 0, 0]}}])")
+                  .find("clip[0].plane.normal"),
               std::string::npos);
     EXPECT_NE(error(R"([{"box": {"min": [1, 0, 0], "max": [0, 1, 1]}}])").find("min < max"),
               std::string::npos);
@@ -475,12 +488,14 @@ TEST(Mask, VolumesKeepTheSamplesInsideTheMask) {
     for (const double jitter : {0.2, 0.7}) {
         EXPECT_NEAR(opacityAlong(parse(sceneText(masked(kMask + "}"))), ray, jitter),
                     want(23.5 - enter), 2 * sigma * 0.1 + 0.05 * sigma);
-        EXPECT_NEAR(opacityAlong(parse(sceneText(masked(kMask + R"(, "invert": true})"))), ray, jitter),
-                    want(enter - 7.5), 2 * sigma * 0.1 + 0.05 * sigma);
+        EXPECT_NEAR(
+            opacityAlong(parse(sceneText(masked(kMask + R"(, "invert": true})"))), ray, jitter),
+            want(enter - 7.5), 2 * sigma * 0.1 + 0.05 * sigma);
     }
     // Skipping on/off and 1/2 threads with a mask.
     const SceneSpec on = parse(sceneText(masked(kMask + "}")));
-    const SceneSpec off = parse(sceneText(masked(kMask + "}"), "", R"(, "empty_space_skipping": false)"));
+    const SceneSpec off =
+        parse(sceneText(masked(kMask + "}"), "", R"(, "empty_space_skipping": false)"));
     const Film a = renderOf(on, 1), b = renderOf(on, 2), c = renderOf(off, 2);
     for (size_t i = 0; i < a.pixels().size(); ++i)
         for (int k = 0; k < kBandCount; ++k) {
@@ -501,9 +516,10 @@ TEST(Mask, ErrorsNameTheKey) {
         return std::string();
     };
     EXPECT_NE(error(R"({"iso": 1})").find("objects[0].mask.source: missing"), std::string::npos);
-    EXPECT_NE(error(R"({"source": {"path": "sphere.raw", "dims": [40, 40, 40], "type": "float32"}})")
-                  .find("objects[0].mask.iso: missing"),
-              std::string::npos);
+    EXPECT_NE(
+        error(R"({"source": {"path": "sphere.raw", "dims": [40, 40, 40], "type": "float32"}})")
+            .find("objects[0].mask.iso: missing"),
+        std::string::npos);
     // Label sets are not parsed yet (MaskSpec::labels is the hook).
     EXPECT_NE(error(R"({"source": {"path": "sphere.raw", "dims": [40, 40, 40], "type": "float32"},
                         "iso": 1, "labels": [3]})")

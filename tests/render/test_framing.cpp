@@ -3,17 +3,17 @@
 // at the target (I/d² on a plane facing the light), close-up crops of world points and boxes, the
 // crop-aspect error, turntable frames as rotations of frame 0, and one scene fitted end to end
 // from a loaded volume's world box.
+#include "core/error.h"
+#include "render/framing.h"
+#include "render/render_scene.h"
+#include "render/scene_file.h"
+#include "scene_text.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-
-#include "core/error.h"
-#include "scene_text.h"
-#include "render/framing.h"
-#include "render/render_scene.h"
-#include "render/scene_file.h"
 
 namespace lobe {
 namespace {

@@ -1,8 +1,7 @@
-#include "render/gallery.h"
-
 #include "core/error.h"
 #include "core/math.h"
 #include "materials/registry.h"
+#include "render/gallery.h"
 
 #include <gtest/gtest.h>
 
@@ -55,8 +54,8 @@ TEST(Gallery, LambertOnlySphereMatchesClosedForm) {
     double expected = 0.0;
     for (const Vec3& l : lights) {
         const Vec3 d = l - p;
-        expected += 0.2 / kPi * options.lightIntensity * std::max(0.0, n.dot(d.normalized())) /
-                    d.length2();
+        expected +=
+            0.2 / kPi * options.lightIntensity * std::max(0.0, n.dot(d.normalized())) / d.length2();
     }
     EXPECT_NEAR(g.film.at(50, 50)[0], expected, 0.01 * expected);  // jitter moves the hit slightly
 }

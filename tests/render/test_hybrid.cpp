@@ -1,16 +1,16 @@
 // The hybrid integrator's depth merge of several volumes, against a closed form: two coloured
-// slabs overlapping along one ray (test_hybrid_compositing.cpp checks surfaces against slabs, opacity, thread
-// invariance and skipping; this test checks that samples of two volumes interleave in depth
-// order, which equal-colour slabs cannot show).
+// slabs overlapping along one ray (test_hybrid_compositing.cpp checks surfaces against slabs,
+// opacity, thread invariance and skipping; this test checks that samples of two volumes interleave
+// in depth order, which equal-colour slabs cannot show).
 //
 // Set-up: the camera looks down −z through (1.5, 1.5). A slab volume of 4×4×40 voxels of value 1
 // (spacing 1) with a step transfer function (opacity α per voxel above value 0.5) fills
 // z ∈ [−0.5, 39.5] (the trilinear value crosses 0.5 half a voxel beyond the last centre); a copy
 // shifted up by 20 overlaps it. One light far up the z axis with I/d² = 1 at the origin, so a
 // sample with no normal (zero gradient) sends colour·kd/π.
+#include "core/error.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
-#include "core/error.h"
 
 #include <gtest/gtest.h>
 
@@ -94,16 +94,17 @@ Spectrum traceDown(const std::vector<std::string>& objects, double step = 0.05,
 TEST(Hybrid, TwoOverlappingVolumesMergeByDepth) {
     const double alpha = 0.04, kd = 0.5;
     const double l = kd / kPi, s = -std::log(1.0 - alpha);
-    const double green = l * (1 - std::exp(-20 * s)) + std::exp(-20 * s) * l * 0.5 * (1 - std::exp(-40 * s));
+    const double green =
+        l * (1 - std::exp(-20 * s)) + std::exp(-20 * s) * l * 0.5 * (1 - std::exp(-40 * s));
     const double red = std::exp(-20 * s) * l * 0.5 * (1 - std::exp(-40 * s)) +
                        std::exp(-60 * s) * l * (1 - std::exp(-20 * s));
     // Point-sampled at a fine step, and pre-integrated (scene key "pre_integrated") at steps of
     // 0.5 and 1.3 voxels: the slabs' edges, where the value falls from 1 to 0 across the
     // transfer function's step within one voxel, are integrated exactly.
     for (const auto& [step, pre] : {std::pair{0.02, false}, {0.5, true}, {1.3, true}}) {
-        const Spectrum L = traceDown({slabObject(alpha, kd, "[1, 0, 0]", 0),
-                                      slabObject(alpha, kd, "[0, 1, 0]", 20)},
-                                     step, pre);
+        const Spectrum L = traceDown(
+            {slabObject(alpha, kd, "[1, 0, 0]", 0), slabObject(alpha, kd, "[0, 1, 0]", 20)}, step,
+            pre);
         EXPECT_NEAR(L[1], green, 0.01 * green) << step;
         // Red lies behind the overlap, where the two volumes' lattices interleave: at 1.3 voxels
         // the order of a red and a green segment within one step moves red by ~2 %.

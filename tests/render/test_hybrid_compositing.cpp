@@ -29,7 +29,6 @@
 #include "render/scene_file.h"
 
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -46,7 +45,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kSlope = 0.75;    // the ramp's slope in x: cos θ = 1/√(1 + kSlope²) = 0.8
+constexpr double kSlope = 0.75;  // the ramp's slope in x: cos θ = 1/√(1 + kSlope²) = 0.8
 constexpr double kCosPlane = 0.8;
 constexpr double kRampBase = -120;  // world z of the ramp's first voxel layer
 
@@ -173,7 +172,8 @@ TEST(HybridCompositing, TiltedTranslucentPlaneAgainstAnEmittingSlabInDepthOrder)
     const Segment whole = segment(alpha, kdV, cV, -0.5, 39.5);
 
     const double zAbove = 60, zInside = 20.3, zBelow = -20;
-    const Spectrum above = traceDown({slab(alpha, kdV, colV, 0), plane(zAbove, o, kdS, colS)}, step);
+    const Spectrum above =
+        traceDown({slab(alpha, kdV, colV, 0), plane(zAbove, o, kdS, colS)}, step);
     const Spectrum wantAbove = planeRadiance(kdS, cS, zAbove) * o + whole.L * (1 - o);
     expectNear(above, wantAbove, 1e-3, "plane above the slab");
 
@@ -185,7 +185,8 @@ TEST(HybridCompositing, TiltedTranslucentPlaneAgainstAnEmittingSlabInDepthOrder)
         front.L + (planeRadiance(kdS, cS, zInside) * o + back.L * (1 - o)) * front.T;
     expectNear(inside, wantInside, 1e-3, "plane inside the slab");
 
-    const Spectrum below = traceDown({slab(alpha, kdV, colV, 0), plane(zBelow, o, kdS, colS)}, step);
+    const Spectrum below =
+        traceDown({slab(alpha, kdV, colV, 0), plane(zBelow, o, kdS, colS)}, step);
     const Spectrum wantBelow = whole.L + planeRadiance(kdS, cS, zBelow) * (o * whole.T);
     expectNear(below, wantBelow, 1e-3, "plane below the slab");
 
@@ -212,8 +213,8 @@ TEST(HybridCompositing, TiltedTranslucentPlaneAgainstAnEmittingSlabInDepthOrder)
 //     + e^{−25σ_B} (σ_A L_A + σ_B L_B)/(σ_A + σ_B) (1 − e^{−15(σ_A + σ_B)})
 //     + e^{−25σ_B − 15(σ_A + σ_B)} L_A (1 − e^{−25σ_A}).
 // The merged-by-depth Riemann sum converges to it; at 0.02 voxel the error is O(σ · step) ≈
-// 1e-3 relative (tolerance 2e-3 of the largest band; measured ~2e-4). E is taken as 1 here: it varies by
-// < 1.3e-4 over the 65 voxels, well inside the tolerance.
+// 1e-3 relative (tolerance 2e-3 of the largest band; measured ~2e-4). E is taken as 1 here: it
+// varies by < 1.3e-4 over the 65 voxels, well inside the tolerance.
 TEST(HybridCompositing, TwoOverlappingVolumesFollowTheExponentialLawWithSummedExtinction) {
     const double aA = 0.06, aB = 0.03, kd = 0.5;
     const double sA = -std::log(1 - aA), sB = -std::log(1 - aB);
@@ -229,9 +230,10 @@ TEST(HybridCompositing, TwoOverlappingVolumesFollowTheExponentialLawWithSummedEx
     expectNear(traceDown({objects[1], objects[0]}, 0.02), want, 2e-3, "step 0.02, swapped");
     // Treating the overlap as "A then B" or "B then A" (no merging) is clearly different: the
     // blue band (B only) would lose or keep the overlap's whole B emission unattenuated by A.
-    const Spectrum bThenA = LB * (1 - std::exp(-40 * sB)) +
-                            LA * (std::exp(-40 * sB) * (1 - std::exp(-40 * sA)));
-    EXPECT_GT(std::abs(bThenA[2] - want[2]) + std::abs(bThenA[0] - want[0]), 0.02 * want.maxValue());
+    const Spectrum bThenA =
+        LB * (1 - std::exp(-40 * sB)) + LA * (std::exp(-40 * sB) * (1 - std::exp(-40 * sA)));
+    EXPECT_GT(std::abs(bThenA[2] - want[2]) + std::abs(bThenA[0] - want[0]),
+              0.02 * want.maxValue());
 }
 
 // Case (c): the skull's opacity 0.97. A dark tilted plane (kd 0.05, white) at z = 50 with
@@ -241,11 +243,13 @@ TEST(HybridCompositing, TwoOverlappingVolumesFollowTheExponentialLawWithSummedEx
 TEST(HybridCompositing, OpacityPoint97LetsThreePercentOfWhatIsBehindShow) {
     const Spectrum L1 = planeRadiance(0.05, Spectrum(1.0), 50);
     const Spectrum L2 = planeRadiance(1.0, Spectrum(0, 0, 1), 10);
-    const Spectrum got = traceDown({plane(50, 0.97, 0.05, "[1, 1, 1]"), plane(10, 1.0, 1.0, "[0, 0, 1]")}, 0.05);
+    const Spectrum got =
+        traceDown({plane(50, 0.97, 0.05, "[1, 1, 1]"), plane(10, 1.0, 1.0, "[0, 0, 1]")}, 0.05);
     expectNear(got, L1 * 0.97 + L2 * 0.03, 1e-7, "0.97 over an opaque plane");
     EXPECT_NEAR(got[2] - got[0], 0.03 * L2[2], 1e-7 * L2[2]);  // exactly 3 % of the blue shows
     // With opacity 1 nothing behind shows.
-    const Spectrum hidden = traceDown({plane(50, 1.0, 0.05, "[1, 1, 1]"), plane(10, 1.0, 1.0, "[0, 0, 1]")}, 0.05);
+    const Spectrum hidden =
+        traceDown({plane(50, 1.0, 0.05, "[1, 1, 1]"), plane(10, 1.0, 1.0, "[0, 0, 1]")}, 0.05);
     expectNear(hidden, L1, 1e-7, "opaque front plane");
 
     // The backdrop behind a 0.97 plane: 3 % of what the ray sees with the plane at opacity 0
@@ -314,9 +318,9 @@ TEST(HybridCompositing, RenderIsThreadCountInvariantAndFinite) {
     const RenderScene scene(spec, false);
     const Vec3 along = normalized(Vec3(1, 0, -kSlope));  // in the plane: normal ∝ (0.75, 0, 1)
     for (const auto& [o, d] :
-         {std::pair{Vec3(-50, 1.5, 20.3 + 51.5 * kSlope), along},    // along the tilted plane
-          std::pair{Vec3(-50, 1.5, 39.5), Vec3(1, 0, 0)},             // along the slab's top face
-          std::pair{Vec3(1.0, 1.0, 200), Vec3(0, 0, -1)},             // through voxel edges
+         {std::pair{Vec3(-50, 1.5, 20.3 + 51.5 * kSlope), along},  // along the tilted plane
+          std::pair{Vec3(-50, 1.5, 39.5), Vec3(1, 0, 0)},          // along the slab's top face
+          std::pair{Vec3(1.0, 1.0, 200), Vec3(0, 0, -1)},          // through voxel edges
           std::pair{Vec3(3.5, 3.5, 200), normalized(Vec3(0, 0, -1))}}) {  // down the grid's side
         Ray ray;
         ray.o = o;
@@ -330,8 +334,8 @@ TEST(HybridCompositing, RenderIsThreadCountInvariantAndFinite) {
 // polynomial per cell (GridReconstructor::bsplineOnRay): every march builds its own, so what a
 // thread rendered before cannot change a pixel.
 TEST(HybridCompositing, BSplineRayPolynomialIsThreadCountInvariant) {
-    SceneSpec spec = sceneOf({slab(0.05, 0.4, "[0.2, 1, 0.5]", 0), slab(0.03, 0.5, "[1, 0.2, 0]", 25)},
-                             0.05, true);
+    SceneSpec spec = sceneOf(
+        {slab(0.05, 0.4, "[0.2, 1, 0.5]", 0), slab(0.03, 0.5, "[1, 0.2, 0]", 25)}, 0.05, true);
     for (ObjectSpec& o : spec.objects) {
         o.reconstruction = "bspline";
         o.gradient = "bspline";
@@ -347,8 +351,8 @@ TEST(HybridCompositing, EmptySpaceSkippingKeyChangesNothingButTheWork) {
     box.replace(box.find("slab.raw"), 8, "box.raw");
     box.replace(box.find("[4, 4, 40]"), 10, "[24, 24, 24]");
     box.replace(box.find("[0, 0, 0]"), 9, "[-10, -10, 5]");
-    SceneSpec on = sceneOf({box, slab(0.03, 0.5, "[1, 0.2, 0]", 25), plane(8.3, 0.6, 0.9, "[1, 0.5, 0.25]")},
-                           0.25);
+    SceneSpec on = sceneOf(
+        {box, slab(0.03, 0.5, "[1, 0.2, 0]", 25), plane(8.3, 0.6, 0.9, "[1, 0.5, 0.25]")}, 0.25);
     EXPECT_TRUE(on.emptySpaceSkipping);  // the default
     const SceneSpec off = parseScene(
         R"({"camera": {"position": [0, 0, 1]}, "volume": {"empty_space_skipping": false},

@@ -5,7 +5,6 @@
 #include "render/scene.h"
 
 #include <gtest/gtest.h>
-
 #include <openvdb/openvdb.h>
 
 #include <cmath>
@@ -59,25 +58,30 @@ TEST(IsoNormals, BSplineNormalsAreContinuousAcrossCellFacesAndTrilinearOnesAreNo
     int n = 0;
     for (int k = 0; k < 40; ++k) {
         const double theta = 0.3 + 2.5 * k / 40.0, phi = 0.7 * k;
-        const Vec3 dir(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+        const Vec3 dir(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                       std::cos(theta));
         Vec3 p = kCentre + dir * 6.0;
-        p.x = std::round(p.x);  // onto the nearest face x = const (still within a cell of the surface)
+        p.x = std::round(
+            p.x);  // onto the nearest face x = const (still within a cell of the surface)
         const Vec3 e(1e-7, 0, 0);
         const Vec3 out = (p - kCentre) * (1.0 / (p - kCentre).length());
         const Vec3 b0 = smoothIsoNormal(*grid, geometry, p - e, out);
         const Vec3 b1 = smoothIsoNormal(*grid, geometry, p + e, out);
         bsplineJump = std::max(bsplineJump, angle(b0, b1));
-        trilinearJump = std::max(trilinearJump, angle(trilinearGradient(p - e), trilinearGradient(p + e)));
+        trilinearJump =
+            std::max(trilinearJump, angle(trilinearGradient(p - e), trilinearGradient(p + e)));
         bsplineError += angle(b0, out);
         EXPECT_GT(b0.dot(out), 0.0);  // turned to the fallback's side
         EXPECT_NEAR(b0.length(), 1.0, 1e-12);
         ++n;
     }
     EXPECT_LT(bsplineJump, 1e-5);
-    EXPECT_GT(trilinearJump, 0.02);  // a visible facet edge (> 1°)
+    EXPECT_GT(trilinearJump, 0.02);     // a visible facet edge (> 1°)
     EXPECT_LT(bsplineError / n, 0.05);  // and close to the true (radial) normal on average
-    std::printf("largest jump across a face: bspline %.2e rad, trilinear %.3f rad; bspline mean "
-                "error %.4f rad\n", bsplineJump, trilinearJump, bsplineError / n);
+    std::printf(
+        "largest jump across a face: bspline %.2e rad, trilinear %.3f rad; bspline mean "
+        "error %.4f rad\n",
+        bsplineJump, trilinearJump, bsplineError / n);
     // Where the field is flat the hit's own normal is kept.
     const Vec3 fallback(0, 0, 1);
     EXPECT_EQ(smoothIsoNormal(*grid, geometry, Vec3(1, 1, 1), fallback).z, 1.0);

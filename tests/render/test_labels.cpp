@@ -2,13 +2,12 @@
 // for voxel, the surface has no false shell where labels 1 < 2 < 3 meet and stays within half a
 // voxel of the boundary of the label's voxel cubes, scene keys expand and name objects, framing
 // uses the label's own box, and every kind of bad input is one clear error.
-#include "label_test_maps.h"
-#include "scene_text.h"
-
 #include "core/error.h"
+#include "label_test_maps.h"
 #include "render/framing.h"
 #include "render/scene.h"
 #include "render/scene_file.h"
+#include "scene_text.h"
 #include "surface/iso_exact.h"
 #include "surface/surface_scene.h"
 #include "volume/labels.h"
@@ -17,10 +16,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <cmath>
 #include <set>
 
 namespace lobe {
@@ -55,7 +54,8 @@ TEST(LabelMap, IndexCountsAndBoxes) {
 TEST(LabelMap, SelectionEqualsTheMaskVoxelForVoxel) {
     const auto map = loadLabelMap(mapPath());
     for (const std::set<int>& ids : {std::set<int>{2}, std::set<int>{1, 3}, std::set<int>{4}}) {
-        const openvdb::FloatGrid::Ptr mask = labelMask(*map, std::vector<int>(ids.begin(), ids.end()));
+        const openvdb::FloatGrid::Ptr mask =
+            labelMask(*map, std::vector<int>(ids.begin(), ids.end()));
         auto acc = mask->getConstAccessor();
         int wrong = 0;
         for (int k = -2; k < kMapN + 2; ++k)
@@ -79,8 +79,8 @@ SurfaceScene sceneOf(std::shared_ptr<const SurfaceGeometry> g) {
 
 TEST(LabelSurface, NoFalseShellWhereLowerAndHigherLabelsMeet) {
     const auto map = loadLabelMap(mapPath());
-    const SurfaceScene label2 =
-        sceneOf(std::make_shared<IsoExactSurface>(*labelSurfaceField(*map, {2}, kLabelSmoothDefault), 0.5));
+    const SurfaceScene label2 = sceneOf(
+        std::make_shared<IsoExactSurface>(*labelSurfaceField(*map, {2}, kLabelSmoothDefault), 0.5));
     // The iso value 1.5 on the labels themselves: the shell of "≥ 2" includes the 1|3 plane.
     const SurfaceScene onValues =
         sceneOf(std::make_shared<IsoExactSurface>(*map->volume->grid, 1.5));
@@ -103,7 +103,8 @@ TEST(LabelSurface, NoFalseShellWhereLowerAndHigherLabelsMeet) {
 // set: max(distance to the union, distance to its complement), one of which is 0.
 double boundaryDistance(const Vec3& p, const std::set<int>& ids) {
     double dIn = 1e9, dOut = 1e9;
-    const int ci = int(std::floor(p.x + 0.5)), cj = int(std::floor(p.y + 0.5)), ck = int(std::floor(p.z + 0.5));
+    const int ci = int(std::floor(p.x + 0.5)), cj = int(std::floor(p.y + 0.5)),
+              ck = int(std::floor(p.z + 0.5));
     for (int k = ck - 3; k <= ck + 3; ++k)
         for (int j = cj - 3; j <= cj + 3; ++j)
             for (int i = ci - 3; i <= ci + 3; ++i) {
@@ -122,8 +123,8 @@ TEST(LabelSurface, WithinHalfAVoxelOfTheLabelBoundary) {
     const auto map = loadLabelMap(mapPath());
     for (int id : {2, 4}) {  // a ball (curved) and a cube (edges, corners)
         const std::set<int> ids{id};
-        const SurfaceScene scene =
-            sceneOf(std::make_shared<IsoExactSurface>(*labelSurfaceField(*map, {id}, kLabelSmoothDefault), 0.5));
+        const SurfaceScene scene = sceneOf(std::make_shared<IsoExactSurface>(
+            *labelSurfaceField(*map, {id}, kLabelSmoothDefault), 0.5));
         const Vec3 centre = id == 2 ? Vec3(12, 12, 12) : Vec3(24.5, 24.5, 24.5);
         int hits = 0;
         double worst = 0.0;
@@ -132,8 +133,10 @@ TEST(LabelSurface, WithinHalfAVoxelOfTheLabelBoundary) {
             for (int b = 1; b < 12; ++b)
                 for (double off : {-2.0, 0.0, 2.0, 2.9}) {
                     const double th = M_PI * b / 12.0, ph = 2.0 * M_PI * a / 24.0;
-                    const Vec3 dir(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-                    Vec3 side = normalized(dir.cross(std::abs(dir.z) < 0.9 ? Vec3(0, 0, 1) : Vec3(1, 0, 0)));
+                    const Vec3 dir(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph),
+                                   std::cos(th));
+                    Vec3 side = normalized(
+                        dir.cross(std::abs(dir.z) < 0.9 ? Vec3(0, 0, 1) : Vec3(1, 0, 0)));
                     Ray ray;
                     ray.o = centre + dir * 20.0 + side * off;
                     ray.d = -dir;
@@ -143,7 +146,8 @@ TEST(LabelSurface, WithinHalfAVoxelOfTheLabelBoundary) {
                     worst = std::max(worst, boundaryDistance(hit->position, ids));
                 }
         EXPECT_GT(hits, 800) << id;
-        EXPECT_LE(worst, 0.5) << "label " << id << ": a hit " << worst << " voxel from the boundary";
+        EXPECT_LE(worst, 0.5) << "label " << id << ": a hit " << worst
+                              << " voxel from the boundary";
         std::printf("label %d: %d hits, farthest %.4f voxel from the boundary of its voxel cubes\n",
                     id, hits, worst);
     }
@@ -179,26 +183,33 @@ TEST(LabelVolume, NearestNeverPassesThroughALabelBetween) {
 // ---- scene keys --------------------------------------------------------------------------------
 
 std::string object(const std::string& body) {
-    return R"({"camera": {"position": [0, 0, 80], "target": [16, 16, 16]}, "objects": [)" + body + "]}";
+    return R"({"camera": {"position": [0, 0, 80], "target": [16, 16, 16]}, "objects": [)" + body +
+           "]}";
 }
 
 std::string source(const std::string& extra) {
     return R"({"path": ")" + mapPath() + "\"" + extra + "}";
 }
 
-const char* kTable = R"(, "label_table": {"1": "Left", "2": "Ball", "3": "Right", "4": {"name": "Cube", "color": "#ff0000"}})";
+const char* kTable =
+    R"(, "label_table": {"1": "Left", "2": "Ball", "3": "Right", "4": {"name": "Cube", "color": "#ff0000"}})";
 
 TEST(LabelScene, NamesNumbersAndSegmentations) {
-    SceneSpec s = parseScene(object(R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
-                                    source(std::string(kTable) + R"(, "labels": ["Ball", 4])") + "}"),
-                             test::kSceneBase, "scene.json");
+    SceneSpec s =
+        parseScene(object(R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
+                          source(std::string(kTable) + R"(, "labels": ["Ball", 4])") + "}"),
+                   test::kSceneBase, "scene.json");
     ASSERT_EQ(s.objects.size(), 1u);
     EXPECT_EQ(s.objects[0].source.labels, (std::vector<int>{2, 4}));
     EXPECT_EQ(s.objects[0].iso, 0.5);
 
-    s = parseScene(object(R"({"kind": "segmentation", "labels": "all", "opacity": 0.5, "brdf": {"model": "lambert"},
-        "source": )" + source(kTable) + R"(, "overrides": {"Ball": {"opacity": 1, "brdf": {"model": "phong"}}}})"),
-                   test::kSceneBase, "scene.json");
+    s = parseScene(
+        object(
+            R"({"kind": "segmentation", "labels": "all", "opacity": 0.5, "brdf": {"model": "lambert"},
+        "source": )" +
+            source(kTable) +
+            R"(, "overrides": {"Ball": {"opacity": 1, "brdf": {"model": "phong"}}}})"),
+        test::kSceneBase, "scene.json");
     ASSERT_EQ(s.objects.size(), 4u);
     EXPECT_EQ(s.objects[0].name, "Left");
     EXPECT_EQ(s.objects[1].name, "Ball");
@@ -215,7 +226,8 @@ TEST(LabelScene, NamesNumbersAndSegmentations) {
 
     // "normals" applies to every label (smooth shading normals: no voxel grid in the highlights).
     s = parseScene(object(R"({"kind": "segmentation", "labels": [2, 4], "normals": "bspline",
-        "brdf": {"model": "lambert"}, "source": )" + source(kTable) + "}"),
+        "brdf": {"model": "lambert"}, "source": )" +
+                          source(kTable) + "}"),
                    test::kSceneBase, "scene.json");
     ASSERT_EQ(s.objects.size(), 2u);
     EXPECT_EQ(s.objects[0].isoNormals, "bspline");
@@ -223,9 +235,10 @@ TEST(LabelScene, NamesNumbersAndSegmentations) {
 }
 
 TEST(LabelScene, FitUsesTheLabelsOwnBox) {
-    const SceneSpec s = parseScene(
-        object(R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" + source(R"(, "labels": [4])") + "}"),
-        test::kSceneBase, "scene.json");
+    const SceneSpec s =
+        parseScene(object(R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
+                          source(R"(, "labels": [4])") + "}"),
+                   test::kSceneBase, "scene.json");
     VolumeCache cache;
     const std::vector<WorldBox> boxes = objectWorldBoxes(s, cache);
     ASSERT_EQ(boxes.size(), 1u);
@@ -241,16 +254,19 @@ TEST(LabelScene, ZoomOnALabelObjectUsesItsOwnBox) {
             {"name": "rest", "kind": "isosurface", "brdf": {"model": "lambert"}, "source": )" +
                source(R"(, "labels": [1, 2, 3])") + "}]}";
     };
-    SceneSpec byName = parseScene(sceneWith(R"({"objects": "cube", "margin": 1.2})"), test::kSceneBase, "a.json");
-    SceneSpec byBox = parseScene(sceneWith(R"({"box": [[21.5, 21.5, 21.5], [27.5, 27.5, 27.5]], "margin": 1.2})"),
-                                 test::kSceneBase, "b.json");
+    SceneSpec byName =
+        parseScene(sceneWith(R"({"objects": "cube", "margin": 1.2})"), test::kSceneBase, "a.json");
+    SceneSpec byBox =
+        parseScene(sceneWith(R"({"box": [[21.5, 21.5, 21.5], [27.5, 27.5, 27.5]], "margin": 1.2})"),
+                   test::kSceneBase, "b.json");
     VolumeCache cache;
     resolveView(byName, objectWorldBoxes(byName, cache));
     resolveView(byBox, objectWorldBoxes(byBox, cache));
     EXPECT_EQ(byName.crop.x0, byBox.crop.x0);
     EXPECT_EQ(byName.crop.y1, byBox.crop.y1);
     EXPECT_LT(byName.crop.x1 - byName.crop.x0, 0.5);  // a close-up, not the whole view
-    EXPECT_NE(test::errorOf(sceneWith(R"({"objects": "cubes"})")).find("camera.zoom.objects: no object is named 'cubes'"),
+    EXPECT_NE(test::errorOf(sceneWith(R"({"objects": "cubes"})"))
+                  .find("camera.zoom.objects: no object is named 'cubes'"),
               std::string::npos);
 }
 
@@ -258,39 +274,47 @@ void expectError(const std::string& text, std::initializer_list<std::string> par
     const std::string e = test::errorOf(text);
     ASSERT_FALSE(e.empty()) << text;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
-    for (const std::string& p : parts) EXPECT_NE(e.find(p), std::string::npos) << e << "\nmissing: " << p;
+    for (const std::string& p : parts)
+        EXPECT_NE(e.find(p), std::string::npos) << e << "\nmissing: " << p;
 }
 
 TEST(LabelScene, BadInputIsOneClearError) {
     const std::string iso = R"({"kind": "isosurface", "brdf": {"model": "lambert"}, "source": )";
     // A label not present: the nearest present labels named.
-    expectError(object(iso + source(R"(, "labels": [9])") + "}"),
-                {"objects[0].source.labels", "label 9 is not in", "nearest labels present: 4, 3, 2"});
+    expectError(
+        object(iso + source(R"(, "labels": [9])") + "}"),
+        {"objects[0].source.labels", "label 9 is not in", "nearest labels present: 4, 3, 2"});
     // A name in no table, with the nearest names.
     expectError(object(iso + source(std::string(kTable) + R"(, "labels": ["Bal"])") + "}"),
                 {"'Bal' is in no label table", "Ball"});
     // A name without any table.
     expectError(object(iso + source(R"(, "labels": ["Ball"])") + "}"), {"has no label table"});
     // A table that does not match the map.
-    expectError(object(iso + source(R"(, "label_table": {"1": "a", "2": "b"}, "labels": [1])") + "}"),
-                {"label_table", "does not match the map", "2 of the map's 4 labels are not in it (3, 4)"});
+    expectError(
+        object(iso + source(R"(, "label_table": {"1": "a", "2": "b"}, "labels": [1])") + "}"),
+        {"label_table", "does not match the map", "2 of the map's 4 labels are not in it (3, 4)"});
     // A map that is not a label map.
     const std::string fractional = test::writeSyntheticMap("fractional.nii", true);
     expectError(object(iso + R"({"path": ")" + fractional + R"(", "labels": [1]}})"),
                 {"not a label map", "0.5", "not a whole number"});
     // Two objects claiming one label.
-    expectError(object(iso + source(R"(, "labels": [2])") + "}, " + iso + source(R"(, "labels": [2, 3])") + "}"),
+    expectError(object(iso + source(R"(, "labels": [2])") + "}, " + iso +
+                       source(R"(, "labels": [2, 3])") + "}"),
                 {"both claim label 2"});
     // "all" is for segmentations, an iso value is not for labels, load options are not either.
     expectError(object(iso + source(R"(, "labels": "all")") + "}"), {"\"all\" is for"});
-    expectError(object(R"({"kind": "isosurface", "iso": 2, "brdf": {"model": "lambert"}, "source": )" +
-                       source(R"(, "labels": [2])") + "}"),
-                {"objects[0].iso", "0.5 level"});
-    expectError(object(iso + source(R"(, "labels": [2], "divide_by": 2)") + "}"), {"divide_by", "not with labels"});
+    expectError(
+        object(R"({"kind": "isosurface", "iso": 2, "brdf": {"model": "lambert"}, "source": )" +
+               source(R"(, "labels": [2])") + "}"),
+        {"objects[0].iso", "0.5 level"});
+    expectError(object(iso + source(R"(, "labels": [2], "divide_by": 2)") + "}"),
+                {"divide_by", "not with labels"});
     // An override naming no label of the segmentation.
-    expectError(object(R"({"kind": "segmentation", "labels": [1, 2], "brdf": {"model": "lambert"}, "source": )" +
-                       source(kTable) + R"(, "overrides": {"Cube": {"opacity": 0.5}}})"),
-                {"overrides.Cube", "not one of this segmentation's labels"});
+    expectError(
+        object(
+            R"({"kind": "segmentation", "labels": [1, 2], "brdf": {"model": "lambert"}, "source": )" +
+            source(kTable) + R"(, "overrides": {"Cube": {"opacity": 0.5}}})"),
+        {"overrides.Cube", "not one of this segmentation's labels"});
 }
 
 // The installed AAL atlas against nibabel's mask of it (np.isin(data, S)): the voxel count, the
@@ -298,17 +322,25 @@ TEST(LabelScene, BadInputIsOneClearError) {
 // {37, 38}, equal ours voxel for voxel.
 TEST(LabelMap, AalSelectionEqualsNibabelsMask) {
     const std::string aal = "/usr/share/mricron/templates/aal.nii.gz";
-    if (!std::filesystem::exists(aal)) GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
-    const std::string out = (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal-mask.txt").string();
+    if (!std::filesystem::exists(aal))
+        GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
+    const std::string out =
+        (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal-mask.txt").string();
     std::filesystem::create_directories(std::filesystem::path(out).parent_path());
-    const std::string cmd = std::string(LOBE_SYSTEM_PYTHON) + " -c \"import nibabel as nib, numpy as np\n"
-        "d = np.asanyarray(nib.load('" + aal + "').dataobj)\n"
-        "with open('" + out + "', 'w') as f:\n"
-        "    for s in ([37], [37, 38]):\n"
-        "        m = np.isin(d, s)\n"
-        "        i = np.argwhere(m)\n"
-        "        flat = np.flatnonzero(m.flatten(order='F'))\n"
-        "        f.write('%d %s %s %d\\n' % (m.sum(), ' '.join(map(str, i.min(0))), ' '.join(map(str, i.max(0))), flat.sum()))\n\"";
+    const std::string cmd = std::string(LOBE_SYSTEM_PYTHON) +
+                            " -c \"import nibabel as nib, numpy as np\n"
+                            "d = np.asanyarray(nib.load('" +
+                            aal +
+                            "').dataobj)\n"
+                            "with open('" +
+                            out +
+                            "', 'w') as f:\n"
+                            "    for s in ([37], [37, 38]):\n"
+                            "        m = np.isin(d, s)\n"
+                            "        i = np.argwhere(m)\n"
+                            "        flat = np.flatnonzero(m.flatten(order='F'))\n"
+                            "        f.write('%d %s %s %d\\n' % (m.sum(), ' '.join(map(str, "
+                            "i.min(0))), ' '.join(map(str, i.max(0))), flat.sum()))\n\"";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     std::ifstream in(out);
     const auto map = loadLabelMap(aal);
@@ -336,31 +368,41 @@ TEST(LabelMap, AalSelectionEqualsNibabelsMask) {
 // — the route users took before labels existed. Same fitted camera, coverage = any surface hit.
 TEST(LabelScene, AalLabel37CoversWhatItsBinaryMaskDoes) {
     const std::string aal = "/usr/share/mricron/templates/aal.nii.gz";
-    if (!std::filesystem::exists(aal)) GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
-    const std::string mask = (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal37.vdb").string();
+    if (!std::filesystem::exists(aal))
+        GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
+    const std::string mask =
+        (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal37.vdb").string();
     Volume maskVolume = *loadLabelMap(aal)->volume;
     maskVolume.grid = labelMask(*loadLabelMap(aal), {37});
     writeVdb(maskVolume, mask);
     const auto sceneText = [](const std::string& object) {
         return R"({"image": {"width": 96, "height": 96}, "camera": {"fit": {"view": "left", "margin": 1.2}},
-                   "objects": [)" + object + "]}";
+                   "objects": [)" +
+               object + "]}";
     };
-    const SceneSpec label = parseScene(sceneText(R"({"kind": "isosurface", "brdf": {"model": "lambert"},
-        "source": {"path": ")" + aal + R"(", "labels": [37]}})"), test::kSceneBase, "label.json");
-    const SceneSpec binary = parseScene(sceneText(R"({"kind": "isosurface", "iso": 0.5, "brdf": {"model": "lambert"},
-        "source": {"path": ")" + mask + R"("}})"), test::kSceneBase, "mask.json");
+    const SceneSpec label = parseScene(sceneText(
+                                           R"({"kind": "isosurface", "brdf": {"model": "lambert"},
+        "source": {"path": ")" + aal + R"(", "labels": [37]}})"),
+                                       test::kSceneBase, "label.json");
+    const SceneSpec binary =
+        parseScene(sceneText(R"({"kind": "isosurface", "iso": 0.5, "brdf": {"model": "lambert"},
+        "source": {"path": ")" +
+                             mask + R"("}})"),
+                   test::kSceneBase, "mask.json");
     const Scene a(label, false), b(binary, false);
     int both = 0, either = 0;
     for (int y = 0; y < 96; ++y)
         for (int x = 0; x < 96; ++x) {
             const Ray ray = a.camera().generateRay((x + 0.5) / 96.0, (y + 0.5) / 96.0);
-            const bool inA = bool(a.surfaces()->intersect(ray)), inB = bool(b.surfaces()->intersect(ray));
+            const bool inA = bool(a.surfaces()->intersect(ray)),
+                       inB = bool(b.surfaces()->intersect(ray));
             both += inA && inB;
             either += inA || inB;
         }
     ASSERT_GT(either, 500);
     const double iou = double(both) / either;
-    std::printf("AAL label 37 against its binary mask: IoU %.3f over %d pixels covered\n", iou, either);
+    std::printf("AAL label 37 against its binary mask: IoU %.3f over %d pixels covered\n", iou,
+                either);
     EXPECT_GE(iou, 0.9);
 }
 

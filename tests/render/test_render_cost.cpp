@@ -8,13 +8,11 @@
 // the grid: a W × H image at S samples per pixel has exactly W·H·S plane hits. Two lights far
 // above (+z) are above the plane at every hit; one far below is below it, so the light loop
 // evaluates the BRDF twice per hit, never three times.
+#include "materials/registry.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 
-#include "materials/registry.h"
-
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -34,7 +32,8 @@ constexpr long long kRays = kWidth * kHeight * kSpp;
 
 fs::path dataDir() {
     static const fs::path dir = [] {
-        const fs::path d = fs::temp_directory_path() / ("lobe_render_cost_" + std::to_string(getpid()));
+        const fs::path d =
+            fs::temp_directory_path() / ("lobe_render_cost_" + std::to_string(getpid()));
         fs::create_directories(d);
         std::vector<float> ramp(4 * 4 * 360), slab(4 * 4 * 40, 1.0f);
         for (int k = 0; k < 360; ++k)
@@ -55,7 +54,8 @@ SceneSpec scene(const std::string& brdf, bool withSlab) {
     const std::string plane =
         R"({"name": "plane", "kind": "isosurface", "source": {"path": "ramp.raw",
             "dims": [4, 4, 360], "type": "float32"}, "transform": {"translate": [0, 0, -120]},
-            "iso": 142.425, "color": [1, 0.5, 0.25], "brdf": )" + brdf + "}";
+            "iso": 142.425, "color": [1, 0.5, 0.25], "brdf": )" +
+        brdf + "}";
     const std::string slab =
         R"(, {"name": "fog", "kind": "volume", "source": {"path": "slab.raw", "dims": [4, 4, 40],
             "type": "float32"}, "transform": {"translate": [0, 0, 25]},
@@ -74,8 +74,8 @@ SceneSpec scene(const std::string& brdf, bool withSlab) {
                       "volume": {"step_voxels": 0.25, "shading_roulette": 0},
                       "objects": [)",
                   kWidth, kHeight, kSpp);
-    return parseScene(std::string(head) + plane + (withSlab ? slab : "") + "]}",
-                      dataDir().string(), "render-cost");
+    return parseScene(std::string(head) + plane + (withSlab ? slab : "") + "]}", dataDir().string(),
+                      "render-cost");
 }
 
 RenderOptions quietOptions(int threads, RenderCost* cost) {

@@ -1,16 +1,15 @@
-#include "render/scene_file.h"
+#include "core/error.h"
 #include "render/scene.h"
+#include "render/scene_file.h"
+#include "scene_text.h"
 #include "volume/volume_summary.h"
 
-#include "core/error.h"
-#include "scene_text.h"
-
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace lobe {
 namespace {
@@ -29,7 +28,8 @@ std::string validScene(const std::string& objectExtra = "", const std::string& b
         "name": "skull", "kind": "isosurface", "iso": 0.5, "opacity": 0.97,
         "source": {"path": "test_scene_file.cpp"},
         "transform": {"scale": [1, -1, 2], "translate": [10, 0, 0]},
-        "brdf": {"model": "ward", "alpha_x": 0.1)" + brdfExtra + R"(}, "kd": 0.2)" + objectExtra + R"(
+        "brdf": {"model": "ward", "alpha_x": 0.1)" +
+           brdfExtra + R"(}, "kd": 0.2)" + objectExtra + R"(
       }]
     })";
 }
@@ -78,7 +78,8 @@ TEST(SceneFile, ErrorsNameTheKeyPath) {
 // in a file, or with a name not given, or beside a file key, an error at the key path.
 TEST(SceneFile, InMemoryArraySources) {
     std::string text = validScene();
-    text.replace(text.find("\"path\": \"test_scene_file.cpp\""), 29, "\"array\": \"a1\", \"divide_by\": 2");
+    text.replace(text.find("\"path\": \"test_scene_file.cpp\""), 29,
+                 "\"array\": \"a1\", \"divide_by\": 2");
     const std::string inFile = errorOf(text);
     EXPECT_NE(inFile.find("scene.json: objects[0].source.array: arrays in memory are given through "
                           "the Python module"),
@@ -124,8 +125,8 @@ TEST(SceneFile, MissingFileUnknownModelAndSyntaxErrors) {
     const std::string syntax = errorOf("{\n  \"image\": {\"width\": 64,,}\n}");
     EXPECT_NE(syntax.find("invalid JSON at line 2"), std::string::npos) << syntax;
     EXPECT_NE(errorOf("{\"objects\": []}").find("camera: missing"), std::string::npos);
-    const std::string cam = errorOf(
-        R"({"camera": {"position": [0,0,1], "target": [0,0,1]}, "objects": []})");
+    const std::string cam =
+        errorOf(R"({"camera": {"position": [0,0,1], "target": [0,0,1]}, "objects": []})");
     EXPECT_NE(cam.find("same point"), std::string::npos) << cam;
 }
 
@@ -205,7 +206,8 @@ TEST(SceneFile, HighlightToneAndGreyBackdropKeys) {
     EXPECT_NE(errorOf(validScene(R"(, "highlight": "white")")).find("objects[0].highlight"),
               std::string::npos);
     std::string toned = validScene();
-    toned.replace(toned.find(R"("seed": 3})"), 10, R"("seed": 3, "tone": "shoulder"}, "backdrop": {"colours": "grey"})");
+    toned.replace(toned.find(R"("seed": 3})"), 10,
+                  R"("seed": 3, "tone": "shoulder"}, "backdrop": {"colours": "grey"})");
     const SceneSpec t = parseScene(toned, kBase, "scene.json");
     EXPECT_EQ(t.tone, "shoulder");
     EXPECT_TRUE(t.backdrop.grey);
@@ -226,7 +228,8 @@ TEST(SceneFile, DivideByNumberOrMax) {
     // A percentile "pNN", 0 < NN <= 100.
     std::string percentile = text;
     percentile.replace(percentile.find(R"("max")"), 5, R"("p99.5")");
-    EXPECT_EQ(parseScene(percentile, kBase, "scene.json").objects[0].source.divideByPercentile, 99.5);
+    EXPECT_EQ(parseScene(percentile, kBase, "scene.json").objects[0].source.divideByPercentile,
+              99.5);
     EXPECT_FALSE(parseScene(percentile, kBase, "scene.json").objects[0].source.divideByMax);
     for (const char* bad : {R"("p0")", R"("p100.5")", R"("p")"}) {
         std::string b = text;
@@ -242,8 +245,9 @@ TEST(SceneFile, DivideByNumberOrMax) {
 TEST(SceneFile, DicomListAndSeries) {
     std::string text = validScene();
     const std::string source = R"("source": {"path": "test_scene_file.cpp"})";
-    text.replace(text.find(source), source.size(),
-                 R"("source": {"path": ["test_scene_file.cpp", "CMakeLists.txt"], "series": "1.2.3"})");
+    text.replace(
+        text.find(source), source.size(),
+        R"("source": {"path": ["test_scene_file.cpp", "CMakeLists.txt"], "series": "1.2.3"})");
     const SceneSpec s = parseScene(text, kBase, "scene.json");
     EXPECT_EQ(s.objects[0].source.path, kBase + "/test_scene_file.cpp");
     ASSERT_EQ(s.objects[0].source.morePaths.size(), 1u);
@@ -251,17 +255,20 @@ TEST(SceneFile, DicomListAndSeries) {
     EXPECT_EQ(s.objects[0].source.series, "1.2.3");
     std::string bad = text;
     bad.replace(bad.find(R"("CMakeLists.txt")"), 16, "7");
-    EXPECT_NE(errorOf(bad).find("objects[0].source.path: expected a list of file names"), std::string::npos)
+    EXPECT_NE(errorOf(bad).find("objects[0].source.path: expected a list of file names"),
+              std::string::npos)
         << errorOf(bad);
     std::string missing = text;
     missing.replace(missing.find(R"("CMakeLists.txt")"), 16, R"("nowhere.dcm")");
-    EXPECT_NE(errorOf(missing).find("nowhere.dcm' does not exist"), std::string::npos) << errorOf(missing);
+    EXPECT_NE(errorOf(missing).find("nowhere.dcm' does not exist"), std::string::npos)
+        << errorOf(missing);
 }
 
 // A DICOM file (by its magic, 'DICM' at byte 128, whatever its name) given as a scene.
 TEST(SceneFile, ADicomFileIsNotAScene) {
     const std::string path = (std::filesystem::temp_directory_path() /
-                              ("lobe-scene-dicom-" + std::to_string(::getpid()) + ".json")).string();
+                              ("lobe-scene-dicom-" + std::to_string(::getpid()) + ".json"))
+                                 .string();
     {
         std::ofstream out(path, std::ios::binary);
         out << std::string(128, '\0') << "DICM" << std::string(64, '\0');
@@ -270,7 +277,9 @@ TEST(SceneFile, ADicomFileIsNotAScene) {
         loadSceneFile(path);
         ADD_FAILURE() << "no error";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("is a DICOM file, not a scene file"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("is a DICOM file, not a scene file"),
+                  std::string::npos)
+            << e.what();
     }
     std::filesystem::remove(path);
 }
@@ -282,15 +291,19 @@ TEST(SceneFile, LevelSetKeys) {
     EXPECT_EQ(d.objects[0].levelSetHalfWidth, 3.0);
     EXPECT_EQ(d.objects[0].levelSetSmooth, 0);
     const SceneSpec o = parseScene(
-        validScene(R"(, "method": "levelset", "levelset_voxel": 0.5, "levelset_half_width": 4, "levelset_smooth": 2)"),
+        validScene(
+            R"(, "method": "levelset", "levelset_voxel": 0.5, "levelset_half_width": 4, "levelset_smooth": 2)"),
         kBase, "scene.json");
     EXPECT_EQ(o.objects[0].levelSetVoxel, 0.5);
     EXPECT_EQ(o.objects[0].levelSetHalfWidth, 4.0);
     EXPECT_EQ(o.objects[0].levelSetSmooth, 2);
-    EXPECT_NE(errorOf(validScene(R"(, "levelset_voxel": 0.5)")).find("levelset_voxel"), std::string::npos);
-    EXPECT_NE(errorOf(validScene(R"(, "method": "levelset", "levelset_half_width": 0.5)")).find("levelset_half_width"),
+    EXPECT_NE(errorOf(validScene(R"(, "levelset_voxel": 0.5)")).find("levelset_voxel"),
               std::string::npos);
-    EXPECT_NE(errorOf(validScene(R"(, "method": "levelset", "levelset_smooth": 1.5)")).find("levelset_smooth"),
+    EXPECT_NE(errorOf(validScene(R"(, "method": "levelset", "levelset_half_width": 0.5)"))
+                  .find("levelset_half_width"),
+              std::string::npos);
+    EXPECT_NE(errorOf(validScene(R"(, "method": "levelset", "levelset_smooth": 1.5)"))
+                  .find("levelset_smooth"),
               std::string::npos);
 }
 
@@ -303,18 +316,21 @@ namespace lobe {
 // point; 600 000 lights made a render that never ends).
 TEST(SceneFile, TooManyLightsAreRefusedByNumber) {
     std::string lights = "\"lights\": [";
-    for (int i = 0; i < 1025; ++i) lights += std::string(i ? ", " : "") + "{\"position\": [1, 2, 3], \"intensity\": 1}";
+    for (int i = 0; i < 1025; ++i)
+        lights += std::string(i ? ", " : "") + "{\"position\": [1, 2, 3], \"intensity\": 1}";
     lights += "]";
     std::string text = validScene();
     const std::string one = "\"lights\": [{\"position\": [1, 2, 3], \"intensity\": [1, 2, 3]}]";
     text.replace(text.find(one), one.size(), lights);
-    EXPECT_EQ(errorOf(text), "scene.json: lights: more than 1024 lights; a scene holds at most 1024");
+    EXPECT_EQ(errorOf(text),
+              "scene.json: lights: more than 1024 lights; a scene holds at most 1024");
     // Refused while the text is read, at the 1025th light: a syntax error after the array is
     // never reached (the count was looked at only after the whole file had been parsed, in
     // time quadratic in the array's length: 600 000 lights, 27 MB, took 101 s).
     std::string broken = text;
     broken.insert(broken.rfind('}'), ", \"late\": [1, 2,, 3]");
-    EXPECT_EQ(errorOf(broken), "scene.json: lights: more than 1024 lights; a scene holds at most 1024");
+    EXPECT_EQ(errorOf(broken),
+              "scene.json: lights: more than 1024 lights; a scene holds at most 1024");
     // The same for objects.
     std::string objects = validScene();
     const size_t at = objects.find("\"objects\": [") + std::string("\"objects\": [").size();
@@ -360,7 +376,8 @@ TEST(SceneFile, CortexShellPreset) {
     const auto scene = [](const std::string& tf) {
         return R"({"camera": {"position": [0, 0, 5]}, "objects": [
             {"kind": "volume", "source": {"path": "test_scene_file.cpp"},
-             "transfer_function": )" + tf + R"(, "brdf": {"model": "phong"}}]})";
+             "transfer_function": )" +
+               tf + R"(, "brdf": {"model": "phong"}}]})";
     };
     const TransferFunction own =
         parseScene(scene(R"({"preset": "cortex_shell", "boundary": 0.3, "width": 0.2,
@@ -390,8 +407,9 @@ TEST(SceneFile, CortexShellPreset) {
     EXPECT_NE(errorOf(scene(R"({"preset": "cortex_shell", "opacity": 0.0001})"))
                   .find("transfer_function.opacity"),
               std::string::npos);
-    EXPECT_NE(errorOf(scene(R"({"preset": "cortex_shell", "index": 1})")).find("transfer_function.index"),
-              std::string::npos);
+    EXPECT_NE(
+        errorOf(scene(R"({"preset": "cortex_shell", "index": 1})")).find("transfer_function.index"),
+        std::string::npos);
 }
 
 }  // namespace
@@ -417,8 +435,10 @@ protected:
     std::string scene(const std::string& tf, const std::string& source = "") const {
         return R"({"camera": {"position": [0, 0, 5]}, "objects": [
             {"kind": "volume", "source": {"path": "ramp.raw", "dims": [10, 10, 1],
-                                          "divide_by": 100)" + source + R"(},
-             "transfer_function": )" + tf + R"(, "brdf": {"model": "phong"}}]})";
+                                          "divide_by": 100)" +
+               source + R"(},
+             "transfer_function": )" +
+               tf + R"(, "brdf": {"model": "phong"}}]})";
     }
     TransferFunction resolve(const std::string& text) const {
         const SceneSpec spec = parseScene(text, dir_.string(), "s.json");
@@ -450,8 +470,8 @@ TEST_F(TfPercentiles, PointsAndABoundaryArePlacedAtTheVolumesPercentiles) {
     EXPECT_NEAR(tf.opacity(0.275), 0.25, 1e-4);  // halfway between p5 and p50
     // p1 is the smallest value, the lowest bin's lower edge: 0.01 exactly (as a float); p99.5 is
     // the 100th value, the top bin's lower edge 1 - 0.99/65536.
-    const TransferFunction ends = resolve(
-        scene(R"({"points": [{"value": "p1", "opacity": 0}, {"value": "p99.5", "opacity": 0.5}]})"));
+    const TransferFunction ends = resolve(scene(
+        R"({"points": [{"value": "p1", "opacity": 0}, {"value": "p99.5", "opacity": 0.5}]})"));
     EXPECT_EQ(ends.points()[0].value, double(0.01f));
     EXPECT_NEAR(ends.points()[1].value, 1.0 - kBin, 1e-7);
 
@@ -484,11 +504,11 @@ TEST_F(TfPercentiles, AreOfTheVolumeAfterItsBlur) {
 
 TEST_F(TfPercentiles, BadTextAndDisorderAreNamed) {
     for (const char* bad : {"p0", "p101", "q5", "95", "p", "pp5", ""}) {
-        const std::string text = scene(std::string(R"({"points": [{"value": 0}, {"value": ")") + bad +
-                                       R"("}]})");
+        const std::string text =
+            scene(std::string(R"({"points": [{"value": 0}, {"value": ")") + bad + R"("}]})");
         const std::string e = resolveError(text);
-        EXPECT_NE(e.find("s.json: objects[0].transfer_function.points[1].value: '" + std::string(bad) +
-                         "' is not a number or a percentile"),
+        EXPECT_NE(e.find("s.json: objects[0].transfer_function.points[1].value: '" +
+                         std::string(bad) + "' is not a number or a percentile"),
                   std::string::npos)
             << bad << ": " << e;
     }
@@ -497,12 +517,14 @@ TEST_F(TfPercentiles, BadTextAndDisorderAreNamed) {
               std::string::npos);
     // Numbers out of order are found in the file; a percentile above a later number when the
     // volume is known, naming the key and the value it took.
-    EXPECT_NE(resolveError(scene(R"({"points": [{"value": 0.5}, {"value": "p9"}, {"value": 0.4}]})"))
-                  .find("objects[0].transfer_function.points[2].value: points must be in non-decreasing"),
-              std::string::npos);
+    EXPECT_NE(
+        resolveError(scene(R"({"points": [{"value": 0.5}, {"value": "p9"}, {"value": 0.4}]})"))
+            .find("objects[0].transfer_function.points[2].value: points must be in non-decreasing"),
+        std::string::npos);
     const std::string e = resolveError(scene(R"({"points": [{"value": "p90"}, {"value": 0.5}]})"));
-    EXPECT_NE(e.find("s.json: objects[0].transfer_function, control point 1: values must be sorted"),
-              std::string::npos)
+    EXPECT_NE(
+        e.find("s.json: objects[0].transfer_function, control point 1: values must be sorted"),
+        std::string::npos)
         << e;
     EXPECT_NE(e.find("s.json: objects[0].transfer_function.points[0].value \"p90\" = 0.89"),
               std::string::npos)
@@ -521,7 +543,8 @@ TEST(SceneFile, CameraErrorNamesTheKeyOnce) {
     ASSERT_NE(at, std::string::npos);
     const size_t open = text.find('[', at), close = text.find(']', at);
     const size_t pos = text.find("\"position\"");
-    const std::string position = text.substr(text.find('[', pos), text.find(']', pos) - text.find('[', pos) + 1);
+    const std::string position =
+        text.substr(text.find('[', pos), text.find(']', pos) - text.find('[', pos) + 1);
     text.replace(open, close - open + 1, position);
     EXPECT_EQ(errorOf(text), "scene.json: camera: position and target are the same point");
 }

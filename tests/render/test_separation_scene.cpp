@@ -6,11 +6,11 @@
 // side by side the highlights are disjoint and the score is the smaller mean contrast. Also:
 // lobe assign's layers reproduce the score of a render made with the chosen models.
 #include "analysis/scene_passes.h"
+#include "core/error.h"
+#include "materials/albedo.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 #include "render/shading.h"
-#include "materials/albedo.h"
-#include "core/error.h"
 #include "test_files.h"
 
 #include <gtest/gtest.h>
@@ -43,8 +43,8 @@ fs::path ballFile() {
 SceneSpec twoSpheres(double dx, const std::string& backModel = "phong",
                      const std::string& backColour = "1", const std::string& frontModel = "phong") {
     static const fs::path dir = ballFile();
-    auto sphere = [](const char* name, double tx, double tz, double opacity, const std::string& model,
-                     const std::string& colour) {
+    auto sphere = [](const char* name, double tx, double tz, double opacity,
+                     const std::string& model, const std::string& colour) {
         char buf[512];
         std::snprintf(buf, sizeof buf,
                       R"({"name": "%s", "kind": "isosurface", "source": {"path": "ball.raw",
@@ -76,7 +76,8 @@ SeparationReport reportOf(const SceneSpec& spec) {
     return measureSeparation(separationLayers(spec, aovs));
 }
 
-// The highlight term alone (grey spheres: identity 1; the score also weighs visibility and veiling).
+// The highlight term alone (grey spheres: identity 1; the score also weighs visibility and
+// veiling).
 double scoreOf(const SceneSpec& spec) { return reportOf(spec).highlight; }
 
 // One render of `spec` with every candidate's per-model layers, as `lobe assign` makes it.
@@ -121,19 +122,20 @@ TEST(SeparationScene, TheTranslucentFrontSphereVeilsTheRedOneBehind) {
     EXPECT_LT(broad.objects[1].chroma, narrow.objects[1].chroma);
     EXPECT_LT(broad.objects[1].quality, narrow.objects[1].quality);
     EXPECT_LT(broad.score, narrow.score) << broad.highlight << " " << narrow.highlight;
-    std::printf("narrow: highlight %.4f score %.4f W %.3f I %.3f C %.1f; broad: highlight %.4f "
-                "score %.4f W %.3f I %.3f C %.1f\n",
-                narrow.highlight, narrow.score, narrow.objects[1].veiling, narrow.objects[1].identity,
-                narrow.objects[1].chroma, broad.highlight, broad.score, broad.objects[1].veiling,
-                broad.objects[1].identity, broad.objects[1].chroma);
+    std::printf(
+        "narrow: highlight %.4f score %.4f W %.3f I %.3f C %.1f; broad: highlight %.4f "
+        "score %.4f W %.3f I %.3f C %.1f\n",
+        narrow.highlight, narrow.score, narrow.objects[1].veiling, narrow.objects[1].identity,
+        narrow.objects[1].chroma, broad.highlight, broad.score, broad.objects[1].veiling,
+        broad.objects[1].identity, broad.objects[1].chroma);
 }
 
 TEST(SeparationScene, AssignmentLayersReproduceAFullRender) {
     // Layers of one render (both spheres Phong) for three candidates; the score they give an
     // assignment equals the score of a render made with that assignment, to float rounding.
     const SceneSpec spec = twoSpheres(8);
-    std::vector<BrdfCandidate> candidates = {{"phong", {}, {}, ""}, {"ward", {}, {}, ""},
-                                             {"schlick_lewis", {}, {}, ""}};
+    std::vector<BrdfCandidate> candidates = {
+        {"phong", {}, {}, ""}, {"ward", {}, {}, ""}, {"schlick_lewis", {}, {}, ""}};
     const AssignmentLayers layers = layersOf(spec, candidates);
     // The front sphere keeps Phong (it is Phong in `spec` too); the back one takes each model.
     for (int c = 0; c < 3; ++c) {

@@ -70,7 +70,8 @@ TEST(Shading, SpecularTermIsTheModelsValueTimesIrradiance) {
     const Vec3 wi(-wo.x, -wo.y, wo.z);
     const std::vector<PointLight> lights = {{wi * 5.0, Spectrum(25.0)}};
     const Spectrum L = directLighting(m, frame, Vec3(0.0), wo, lights);
-    const Spectrum expected = (Spectrum(0.2 / kPi) + evalBrdf(m.specular, wi, wo)) * (25.0 * wi.z / 25.0);
+    const Spectrum expected =
+        (Spectrum(0.2 / kPi) + evalBrdf(m.specular, wi, wo)) * (25.0 * wi.z / 25.0);
     for (int band = 0; band < 3; ++band) EXPECT_NEAR(L[band], expected[band], 1e-12);
 }
 

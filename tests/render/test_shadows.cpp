@@ -29,8 +29,8 @@
 
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <fstream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -74,19 +74,20 @@ std::string floorObject(double kd = 0.5) {
 }
 std::string sphereObject(double opacity, bool casts = true) {
     return R"({"kind": "isosurface", "source": {"path": "sphere.raw", "dims": [48, 48, 24],
-               "type": "float32"}, "iso": 1, "opacity": )" + std::to_string(opacity) +
-           R"(, "casts_shadows": )" + (casts ? "true" : "false") +
+               "type": "float32"}, "iso": 1, "opacity": )" +
+           std::to_string(opacity) + R"(, "casts_shadows": )" + (casts ? "true" : "false") +
            R"(, "brdf": {"model": "lambert", "kd": 0}, "kd": 0.5})";
 }
 std::string slabObject(double alpha) {
     return R"({"kind": "volume", "source": {"path": "slab.raw", "dims": [16, 16, 40],
                "type": "float32"}, "transfer_function": {"points": [{"value": 0.5, "opacity": 0},
-               {"value": 0.5, "opacity": )" + std::to_string(alpha) +
+               {"value": 0.5, "opacity": )" +
+           std::to_string(alpha) +
            R"(, "color": [1, 0.8, 0.6]}]}, "brdf": {"model": "lambert", "kd": 0}, "kd": 0.6})";
 }
 
-SceneSpec sceneOf(const std::string& objects, const std::string& shadows, const Vec3& light = kLight,
-                  const std::string& volume = "") {
+SceneSpec sceneOf(const std::string& objects, const std::string& shadows,
+                  const Vec3& light = kLight, const std::string& volume = "") {
     char head[900];
     std::snprintf(head, sizeof head,
                   R"({"image": {"width": 14, "height": 10, "samples_per_pixel": 2},
@@ -156,7 +157,8 @@ TEST(Shadows, SphereShadowOnAPlaneIsTheTangentConesDisc) {
         const Vec3 toL = kLight - q;
         const double lit = 0.5 / kPi * 4000 * (toL.z / toL.length()) / toL.length2();
         const double got = opaque.trace(ray)[0];
-        const double off = Tracer(sceneOf(floorObject() + "," + sphereObject(1.0), "off")).trace(ray)[0];
+        const double off =
+            Tracer(sceneOf(floorObject() + "," + sphereObject(1.0), "off")).trace(ray)[0];
         EXPECT_NEAR(off, lit, 1e-9 * lit);
         EXPECT_NEAR(got, std::abs(r) < rs ? 0.0 : lit, 1e-9 * lit) << "r " << r;
     }
@@ -172,7 +174,8 @@ TEST(Shadows, SlabTransmittanceIsTheExponentialOfItsOpticalDepth) {
         const double cosPhi = 1.0 / std::sqrt(1 + tanPhi * tanPhi);
         const double want = std::pow(1 - alpha, 16.0 / cosPhi);
         Tracer on(sceneOf(slabObject(alpha), "exact", light));
-        Tracer off(sceneOf(slabObject(alpha), "exact", light, R"(, "empty_space_skipping": false)"));
+        Tracer off(
+            sceneOf(slabObject(alpha), "exact", light, R"(, "empty_space_skipping": false)"));
         for (const double jitter : {0.05, 0.5, 0.95}) {
             const double got = on.transmittance(p, jitter, 0.0);
             // The lattice (step 0.1 voxel along the ray's index length) is off the slab's ends by
@@ -227,7 +230,8 @@ TEST(Shadows, ImagesAreTheSameForAnyThreadCountAndPassesStillAddUp) {
                 sum += passes.lambertAt(p, o) + passes.specularAt(p, o);
             for (int b = 0; b < kBandCount; ++b) {
                 ASSERT_EQ(one.pixels()[p][b], two.pixels()[p][b]) << "pixel " << p;
-                EXPECT_NEAR(three.pixels()[p][b], one.pixels()[p][b], 1e-9 * (1 + one.pixels()[p][b]));
+                EXPECT_NEAR(three.pixels()[p][b], one.pixels()[p][b],
+                            1e-9 * (1 + one.pixels()[p][b]));
                 EXPECT_EQ(withPasses.pixels()[p][b], one.pixels()[p][b]);
                 EXPECT_NEAR(sum[b], one.pixels()[p][b], 2e-6 * std::abs(one.pixels()[p][b]) + 1e-9);
                 EXPECT_LE(one.pixels()[p][b], none.pixels()[p][b] * (1 + 1e-12) + 1e-12);
@@ -256,7 +260,8 @@ TEST(Shadows, SceneKeysAndErrors) {
     EXPECT_EQ(error(R"("exact")"), "");
     EXPECT_EQ(error(R"({"mode": "cached", "cache_voxels": 4})"), "");
     EXPECT_NE(error(R"("soft")").find("shadows"), std::string::npos);
-    EXPECT_NE(error(R"({"mode": "cached", "cache_voxels": 0})").find("cache_voxels"), std::string::npos);
+    EXPECT_NE(error(R"({"mode": "cached", "cache_voxels": 0})").find("cache_voxels"),
+              std::string::npos);
 }
 
 }  // namespace

@@ -6,10 +6,11 @@
 // Why the centre pixel must hit: the camera looks at the skull's bounding-box centre
 // (110, 131, 116) (docs/paper-scene.md), and the central ray crosses the bone there (the
 // lateral skull wall in front of the centre along a 45° front-side view). The check compares
-// against the same view with the skull made fully transparent, so a miss (centre = backdrop exactly) fails.
+// against the same view with the skull made fully transparent, so a miss (centre = backdrop
+// exactly) fails.
+#include "core/error.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
-#include "core/error.h"
 
 #include <gtest/gtest.h>
 #include <openvdb/io/File.h>
@@ -17,7 +18,6 @@
 
 #include <cmath>
 #include <filesystem>
-
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -121,14 +121,16 @@ TEST(SkullRender, ForeignLevelSetVdbRendersAsItIs) {
     const std::string dir = std::string(LOBE_BINARY_DIR) + "/test-output/render/ForeignLevelSetVdb";
     std::filesystem::create_directories(dir);
     const std::string vdb = dir + "/sphere_levelset.vdb";
-    auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(40.0f, openvdb::Vec3f(0, 0, 0), 1.0f, 3.0f);
+    auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
+        40.0f, openvdb::Vec3f(0, 0, 0), 1.0f, 3.0f);
     sphere->setName("density");
     openvdb::io::File(vdb).write({sphere});
     const std::string scene = R"({
       "camera": {"position": [0, -200, 0], "target": [0, 0, 0], "up": [0, 0, 1], "fov_deg": 40},
       "image": {"width": 32, "height": 32, "samples_per_pixel": 1},
       "lights": [{"position": [0, -200, 0], "intensity": 40000}],
-      "objects": [{"name": "ball", "kind": "isosurface", "source": {"path": ")" + vdb + R"("},
+      "objects": [{"name": "ball", "kind": "isosurface", "source": {"path": ")" +
+                              vdb + R"("},
                    "iso": ISO, "method": "levelset", "brdf": {"model": "phong"}}]})";
     const auto withIso = [&](const std::string& iso) {
         std::string text = scene;

@@ -145,7 +145,8 @@ openvdb::FloatGrid::Ptr sphereGrid(const double linear[3][3], const int dims[3])
 // The dense ray set, in world space.
 std::vector<Ray> sphereRays(const AffineMap& map, const int dims[3]) {
     std::vector<Ray> rays;
-    const Vec3 lo = map.toWorld(Vec3(0.0)), hi = map.toWorld(Vec3(dims[0] - 1, dims[1] - 1, dims[2] - 1));
+    const Vec3 lo = map.toWorld(Vec3(0.0)),
+               hi = map.toWorld(Vec3(dims[0] - 1, dims[1] - 1, dims[2] - 1));
     const double span = (hi - lo).length();
     // Axis rays both ways on a half-voxel lattice of index positions: integer/integer lines run
     // along voxel edges through corners, integer/half lines along faces.
@@ -166,8 +167,8 @@ std::vector<Ray> sphereRays(const AffineMap& map, const int dims[3]) {
                 }
     }
     // Diagonal rays through lattice points (voxel corners) in several directions.
-    const Vec3 dirs[] = {Vec3(1, 1, 1), Vec3(1, 1, 0), Vec3(1, -1, 1), Vec3(-1, 2, 0),
-                         Vec3(0, 1, -1), Vec3(2, 1, -1)};
+    const Vec3 dirs[] = {Vec3(1, 1, 1),  Vec3(1, 1, 0),  Vec3(1, -1, 1),
+                         Vec3(-1, 2, 0), Vec3(0, 1, -1), Vec3(2, 1, -1)};
     for (const Vec3& dIdx : dirs)
         for (int i = 6; i < dims[0] - 6; i += 2)
             for (int j = 6; j < dims[1] - 6; j += 2) {
@@ -191,8 +192,9 @@ std::vector<Ray> sphereRays(const AffineMap& map, const int dims[3]) {
         }
     }
     for (int n = 0; n < 2000; ++n) {
-        const Vec3 target = map.toWorld(Vec3(rng.uniform() * (dims[0] - 1), rng.uniform() * (dims[1] - 1),
-                                              rng.uniform() * (dims[2] - 1)));
+        const Vec3 target =
+            map.toWorld(Vec3(rng.uniform() * (dims[0] - 1), rng.uniform() * (dims[1] - 1),
+                             rng.uniform() * (dims[2] - 1)));
         const Vec3 d = randomUnit(rng);
         Ray r;
         r.d = d;
@@ -236,7 +238,8 @@ ExactStats checkExactAgainstReference(const openvdb::FloatGrid& grid, const Surf
         } else {
             const double errVoxel = std::abs(hit->t - *ref) * voxelsPerT;
             st.maxErrVoxel = std::max(st.maxErrVoxel, errVoxel);
-            EXPECT_LT(errVoxel, 1e-4) << "ray " << n << ": t = " << hit->t << ", reference " << *ref;
+            EXPECT_LT(errVoxel, 1e-4)
+                << "ray " << n << ": t = " << hit->t << ", reference " << *ref;
         }
         // Closeness to the true sphere and its normal (looser: sampling error of the field).
         const double sphereErr = std::abs((hit->position - kCentre).length() - kRadius);
@@ -261,7 +264,8 @@ ExactStats checkExactAgainstReference(const openvdb::FloatGrid& grid, const Surf
                 Vec3 e(0.0);
                 e[a] = h;
                 gw[a] = (sampleIndex(grid, map.toIndex(hit->position + e)) -
-                         sampleIndex(grid, map.toIndex(hit->position - e))) / (2 * h);
+                         sampleIndex(grid, map.toIndex(hit->position - e))) /
+                        (2 * h);
             }
             const double gDeg = angleDegrees(hit->normal, -gw);
             st.maxGradDeg = std::max(st.maxGradDeg, gDeg);
@@ -272,11 +276,12 @@ ExactStats checkExactAgainstReference(const openvdb::FloatGrid& grid, const Surf
 }
 
 void report(const char* what, const ExactStats& st) {
-    std::printf("[%s] rays %d, hits %d, missed %d, extra roots the reference skipped %d, "
-                "max |t − t_ref| %.3g voxel, max ||x − c| − R| %.4f, max normal vs sphere %.3f°, "
-                "max normal vs −∇(BoxSampler) %.4f°\n",
-                what, st.rays, st.hits, st.missed, st.unresolvedByReference, st.maxErrVoxel,
-                st.maxSphereErr, st.maxNormalDeg, st.maxGradDeg);
+    std::printf(
+        "[%s] rays %d, hits %d, missed %d, extra roots the reference skipped %d, "
+        "max |t − t_ref| %.3g voxel, max ||x − c| − R| %.4f, max normal vs sphere %.3f°, "
+        "max normal vs −∇(BoxSampler) %.4f°\n",
+        what, st.rays, st.hits, st.missed, st.unresolvedByReference, st.maxErrVoxel,
+        st.maxSphereErr, st.maxNormalDeg, st.maxGradDeg);
     ::testing::Test::RecordProperty("max_t_error_voxel", std::to_string(st.maxErrVoxel));
     ::testing::Test::RecordProperty("max_sphere_error", std::to_string(st.maxSphereErr));
 }
@@ -310,9 +315,11 @@ TEST(IsoExact, TwoVoxelsFarApartAreRefusedByTheTablesSize) {
         IsoExactSurface surface(*grid, 0.5, "far.vdb");
         FAIL() << "expected an error";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("far.vdb: the exact iso-surface's table"), std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("far.vdb: the exact iso-surface's table"),
+                  std::string::npos)
             << e.what();
-        EXPECT_NE(std::string(e.what()).find("\"method\": \"mesh\""), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("\"method\": \"mesh\""), std::string::npos)
+            << e.what();
     }
 }
 
@@ -370,7 +377,8 @@ void measureMesh(const double linear[3][3], const int dims[3], const char* label
             Vec3 h(0.0);
             h[a] = 1e-4;
             gw[a] = (sampleIndex(*grid, map.toIndex(m->position + h)) -
-                     sampleIndex(*grid, map.toIndex(m->position - h))) / 2e-4;
+                     sampleIndex(*grid, map.toIndex(m->position - h))) /
+                    2e-4;
         }
         const double surfaceDistance = std::abs(sampleIndex(*grid, u)) / gw.length();
         maxSurfaceDistance = std::max(maxSurfaceDistance, surfaceDistance);
@@ -381,18 +389,19 @@ void measureMesh(const double linear[3][3], const int dims[3], const char* label
         maxSphere = std::max(maxSphere, std::abs((m->position - kCentre).length() - kRadius));
         EXPECT_NEAR(m->normal.length(), 1.0, 1e-12);
     }
-    std::printf("[mesh vs exact, %s] %zu quads (%zu triangles), rays %zu: both hit %d, only exact "
-                "%d, only mesh %d; |Δt| mean %.4f rms %.4f max %.4f voxel; distance to the "
-                "interpolant's surface max %.4f; normal Δ mean %.3f° max %.3f°; max ||x − c| − R| "
-                "%.4f\n",
-                label, mesh->quadCount(), mesh->triangleCount(), rays.size(), both, onlyExact,
-                onlyMesh, sumErr / both, std::sqrt(sumErr2 / both), maxErr, maxSurfaceDistance,
-                sumDeg / both, maxDeg, maxSphere);
+    std::printf(
+        "[mesh vs exact, %s] %zu quads (%zu triangles), rays %zu: both hit %d, only exact "
+        "%d, only mesh %d; |Δt| mean %.4f rms %.4f max %.4f voxel; distance to the "
+        "interpolant's surface max %.4f; normal Δ mean %.3f° max %.3f°; max ||x − c| − R| "
+        "%.4f\n",
+        label, mesh->quadCount(), mesh->triangleCount(), rays.size(), both, onlyExact, onlyMesh,
+        sumErr / both, std::sqrt(sumErr2 / both), maxErr, maxSurfaceDistance, sumDeg / both, maxDeg,
+        maxSphere);
     ::testing::Test::RecordProperty("mesh_mean_t_error_voxel", std::to_string(sumErr / both));
     ::testing::Test::RecordProperty("mesh_max_t_error_voxel", std::to_string(maxErr));
     ::testing::Test::RecordProperty("mesh_max_normal_error_deg", std::to_string(maxDeg));
     ::testing::Test::RecordProperty("mesh_rays_missed", std::to_string(onlyExact));
-    EXPECT_EQ(onlyMesh, 0);  // the inscribed mesh never sticks out of the exact surface
+    EXPECT_EQ(onlyMesh, 0);     // the inscribed mesh never sticks out of the exact surface
     EXPECT_LT(maxSphere, 1.0);  // the mesh lies in world space, within a voxel of the sphere
 }
 
@@ -449,9 +458,10 @@ TEST(IsoMesh, ClosedMeshLetsNoRayThroughEdgesOrVertices) {
             if (!hit || hit->t > reach + 1e-4) {
                 ++leaks;
                 if (leaks <= 5)
-                    std::printf("  leak: o (%.9g %.9g %.9g) d (%.9g %.9g %.9g) reach %.6f hit %s t %.6f\n",
-                                r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, reach, hit ? "yes" : "no",
-                                hit ? hit->t : 0.0);
+                    std::printf(
+                        "  leak: o (%.9g %.9g %.9g) d (%.9g %.9g %.9g) reach %.6f hit %s t %.6f\n",
+                        r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, reach, hit ? "yes" : "no",
+                        hit ? hit->t : 0.0);
             }
         }
     }
@@ -503,8 +513,8 @@ TEST(LevelSet, PlaneUnderAffineTransformsIsHitExactly) {
 TEST(LevelSet, NarrowBandSphereNoMissesAndRootsWithin1e4Voxel) {
     const int dims[3] = {32, 32, 32};
     auto phi = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
-        float(kRadius), openvdb::Vec3f(float(kCentre.x), float(kCentre.y), float(kCentre.z)),
-        1.0f, 3.0f);
+        float(kRadius), openvdb::Vec3f(float(kCentre.x), float(kCentre.y), float(kCentre.z)), 1.0f,
+        3.0f);
     auto surface = std::make_shared<LevelSetSurface>(phi, "sphere");
     EXPECT_GT(surface->blockCount(), 0u);
     EXPECT_LE(surface->blockCount(), phi->tree().leafCount() * 8);
@@ -538,7 +548,8 @@ TEST(LevelSet, TorusOnAShearedGrid) {
     for (int n = 0; n < 4000; ++n) {
         // Towards a random point near the torus's tube, from 60 units away.
         const double a = 2 * kPi * rng.uniform();
-        const Vec3 aim = c + Vec3(big * std::cos(a), big * std::sin(a), 0.0) + randomUnit(rng) * (small * rng.uniform());
+        const Vec3 aim = c + Vec3(big * std::cos(a), big * std::sin(a), 0.0) +
+                         randomUnit(rng) * (small * rng.uniform());
         Ray ray;
         ray.d = randomUnit(rng);
         ray.o = aim - ray.d * 60.0;
@@ -557,8 +568,10 @@ TEST(LevelSet, TorusOnAShearedGrid) {
         EXPECT_LT(err, 1e-4) << "ray " << n;
         maxTorus = std::max(maxTorus, std::abs(torus(hit->position)));
     }
-    std::printf("[level set, torus on a sheared grid] rays 4000, hits %d, missed %d, max |t − t_ref| "
-                "%.3g voxel, max |φ_torus(hit)| %.4f\n", hits, missed, maxErr, maxTorus);
+    std::printf(
+        "[level set, torus on a sheared grid] rays 4000, hits %d, missed %d, max |t − t_ref| "
+        "%.3g voxel, max |φ_torus(hit)| %.4f\n",
+        hits, missed, maxErr, maxTorus);
     EXPECT_EQ(missed, 0);
     EXPECT_GT(hits, 2000);
     EXPECT_LT(maxTorus, 0.1);  // interpolation error of the sampled distance, not a wrong root
@@ -571,7 +584,9 @@ TEST(LevelSet, FromDensitySignAccuracyAndVoxelSize) {
     const int dims[3] = {32, 32, 32};
     auto density = sphereGrid(kIdentity, dims);  // R − |x − c|: positive inside
     auto surface = LevelSetSurface::fromDensity(*density, 0.0, LevelSetOptions{}, "sphere");
-    const auto phiAt = [&](const Vec3& x) { return sampleIndex(surface->levelSet(), surface->map().toIndex(x)); };
+    const auto phiAt = [&](const Vec3& x) {
+        return sampleIndex(surface->levelSet(), surface->map().toIndex(x));
+    };
     EXPECT_LT(phiAt(kCentre + Vec3(0, 0, kRadius - 1.5)), 0.0);
     EXPECT_GT(phiAt(kCentre + Vec3(0, 0, kRadius + 1.5)), 0.0);
     LevelSetOptions fine;
@@ -595,15 +610,18 @@ TEST(LevelSet, FromDensitySignAccuracyAndVoxelSize) {
             }
             if (!e || !h) continue;
             ++both;
-            maxErr[index] = std::max(maxErr[index], std::abs((h->position - kCentre).length() - kRadius));
+            maxErr[index] =
+                std::max(maxErr[index], std::abs((h->position - kCentre).length() - kRadius));
             EXPECT_GT(h->normal.dot(h->position - kCentre), 0.0);  // outwards
         }
         EXPECT_GT(both, 3000);
         ++index;
     }
     // The exact method's own distance to the sphere is 0.025 (IsoExact above), the mesh's 0.064.
-    std::printf("[level set from density, sphere 32³] max ||x − c| − R|: %.4f (source voxel), "
-                "%.4f (voxel 0.5)\n", maxErr[0], maxErr[1]);
+    std::printf(
+        "[level set from density, sphere 32³] max ||x − c| − R|: %.4f (source voxel), "
+        "%.4f (voxel 0.5)\n",
+        maxErr[0], maxErr[1]);
     EXPECT_LT(maxErr[0], 0.15);
     EXPECT_LT(maxErr[1], 0.15);
 
@@ -612,7 +630,8 @@ TEST(LevelSet, FromDensitySignAccuracyAndVoxelSize) {
         const double r = (x - kCentre).length();
         return std::min(r - 6.0, kRadius - r);
     });
-    SurfaceScene shellScene = sceneOf(LevelSetSurface::fromDensity(*shell, 0.0, LevelSetOptions{}, "shell"));
+    SurfaceScene shellScene =
+        sceneOf(LevelSetSurface::fromDensity(*shell, 0.0, LevelSetOptions{}, "shell"));
     Rng rng(5, 5);
     for (int n = 0; n < 200; ++n) {
         Ray ray;
@@ -634,7 +653,8 @@ TEST(LevelSet, BadOptionsAreErrors) {
     LevelSetOptions negative;
     negative.voxelSize = -1.0;
     EXPECT_THROW(LevelSetSurface::fromDensity(*density, 0.0, negative, "g"), Error);
-    EXPECT_THROW(LevelSetSurface::fromDensity(*density, std::nan(""), LevelSetOptions{}, "g"), Error);
+    EXPECT_THROW(LevelSetSurface::fromDensity(*density, std::nan(""), LevelSetOptions{}, "g"),
+                 Error);
     LevelSetOptions tiny;
     tiny.voxelSize = 1e-6;  // a 32³ box at 1e-6: 3e22 voxels
     const int bigDims[3] = {32, 32, 32};

@@ -73,13 +73,14 @@ TEST(TrilinearCell, QuadraticRoots) {
     ASSERT_EQ(solveQuadratic(1, -3, 2, r), 2);
     EXPECT_DOUBLE_EQ(r[0], 1.0);
     EXPECT_DOUBLE_EQ(r[1], 2.0);
-    // Cancellation case: x² − 1e8 x + 1 has roots ≈ 1e-8 and 1e8; the naive formula loses the small one.
+    // Cancellation case: x² − 1e8 x + 1 has roots ≈ 1e-8 and 1e8; the naive formula loses the small
+    // one.
     ASSERT_EQ(solveQuadratic(1, -1e8, 1, r), 2);
     EXPECT_NEAR(r[0], 1e-8, 1e-20);
-    EXPECT_EQ(solveQuadratic(1, 0, 1, r), 0);      // x² + 1: none
-    ASSERT_EQ(solveQuadratic(0, 2, -1, r), 1);     // linear 2x − 1
+    EXPECT_EQ(solveQuadratic(1, 0, 1, r), 0);   // x² + 1: none
+    ASSERT_EQ(solveQuadratic(0, 2, -1, r), 1);  // linear 2x − 1
     EXPECT_DOUBLE_EQ(r[0], 0.5);
-    EXPECT_EQ(solveQuadratic(0, 0, 3, r), 0);      // constant
+    EXPECT_EQ(solveQuadratic(0, 0, 3, r), 0);  // constant
 }
 
 TEST(TrilinearCell, FirstRootOfACubicWithThreeRoots) {
@@ -92,7 +93,8 @@ TEST(TrilinearCell, FirstRootOfACubicWithThreeRoots) {
     double root = -1;
     ASSERT_TRUE(firstRootOnInterval(g, 1.0, 1e-14, root));
     EXPECT_NEAR(root, 0.2, 1e-12);
-    // Shift the start past the first root: g(s + 0.3) has roots −0.1, 0.2, 0.6 → first in [0,1] is 0.2.
+    // Shift the start past the first root: g(s + 0.3) has roots −0.1, 0.2, 0.6 → first in [0,1] is
+    // 0.2.
     Cubic h;  // coefficients of g(s + 0.3), expanded by hand:
     // (s + 0.1)(s − 0.2)(s − 0.6) = s³ − 0.7 s² + 0.04 s + 0.012.
     h.c[0] = 0.012;
@@ -130,9 +132,9 @@ TEST(AffineMap, AnisotropicSpacingAndFlip) {
     const auto xform = openvdb::math::Transform::createLinearTransform(m);
     const AffineMap map = AffineMap::fromTransform(*xform);
     const Vec3 w = map.toWorld(Vec3(1, 2, 3));
-    EXPECT_DOUBLE_EQ(w.x, 9.0);   // −1 + 10
+    EXPECT_DOUBLE_EQ(w.x, 9.0);  // −1 + 10
     EXPECT_DOUBLE_EQ(w.y, 2.0);
-    EXPECT_DOUBLE_EQ(w.z, 2.0);   // 6 − 4
+    EXPECT_DOUBLE_EQ(w.z, 2.0);  // 6 − 4
     const Vec3 u = map.toIndex(w);
     EXPECT_NEAR(u.x, 1.0, 1e-15);
     EXPECT_NEAR(u.y, 2.0, 1e-15);

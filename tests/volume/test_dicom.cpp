@@ -12,16 +12,16 @@
 #include <gdcmImageReader.h>
 #include <gdcmImageWriter.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace lobe {
@@ -55,7 +55,8 @@ void expectError(const std::function<void()>& f, const std::vector<std::string>&
         ADD_FAILURE() << "no error; expected one naming: " << parts.front();
     } catch (const Error& e) {
         const std::string m = e.what();
-        for (const std::string& p : parts) EXPECT_NE(m.find(p), std::string::npos) << "'" << p << "' not in: " << m;
+        for (const std::string& p : parts)
+            EXPECT_NE(m.find(p), std::string::npos) << "'" << p << "' not in: " << m;
     }
 }
 
@@ -70,16 +71,19 @@ void expectSameByWorld(const Volume& dicom, const Volume& nifti) {
     for (int k = 0; k < dicom.dims[2]; ++k)
         for (int j = 0; j < dicom.dims[1]; ++j)
             for (int i = 0; i < dicom.dims[0]; ++i) {
-                const openvdb::Vec3d w = dicom.grid->transform().indexToWorld(openvdb::Vec3d(i, j, k));
+                const openvdb::Vec3d w =
+                    dicom.grid->transform().indexToWorld(openvdb::Vec3d(i, j, k));
                 const openvdb::Vec3d n = nifti.grid->transform().worldToIndex(w);
-                const openvdb::Coord c(int(std::lround(n[0])), int(std::lround(n[1])), int(std::lround(n[2])));
+                const openvdb::Coord c(int(std::lround(n[0])), int(std::lround(n[1])),
+                                       int(std::lround(n[2])));
                 bool ok = true;
-                for (int x = 0; x < 3; ++x) ok = ok && std::abs(n[x] - c[x]) < 1e-3 && c[x] >= 0 && c[x] < nifti.dims[x];
+                for (int x = 0; x < 3; ++x)
+                    ok = ok && std::abs(n[x] - c[x]) < 1e-3 && c[x] >= 0 && c[x] < nifti.dims[x];
                 ok = ok && std::abs(a.getValue(openvdb::Coord(i, j, k)) - b.getValue(c)) < 1e-3;
                 if (!ok && ++mismatches <= 5)
-                    ADD_FAILURE() << "DICOM voxel (" << i << ", " << j << ", " << k << ") = "
-                                  << a.getValue(openvdb::Coord(i, j, k)) << " at world " << w
-                                  << " is NIfTI index " << n << " = " << b.getValue(c);
+                    ADD_FAILURE() << "DICOM voxel (" << i << ", " << j << ", " << k
+                                  << ") = " << a.getValue(openvdb::Coord(i, j, k)) << " at world "
+                                  << w << " is NIfTI index " << n << " = " << b.getValue(c);
             }
     EXPECT_EQ(mismatches, 0);
 }
@@ -96,7 +100,8 @@ TEST(Dicom, SyntheticObliqueSeriesMatchesItsNifti) {
     EXPECT_NEAR(d.spacing[0], 0.6, 1e-6);  // columns apart: PixelSpacing[1]
     EXPECT_NEAR(d.spacing[1], 0.8, 1e-6);  // rows apart: PixelSpacing[0]
     EXPECT_NEAR(d.spacing[2], 2.5, 1e-5);
-    // Voxel (0, 0, 0) at ImagePositionPatient LPS (−40, 25, 110) of the first slice: RAS (40, −25, 110).
+    // Voxel (0, 0, 0) at ImagePositionPatient LPS (−40, 25, 110) of the first slice: RAS (40, −25,
+    // 110).
     const openvdb::Vec3d o = world(d, 0, 0, 0);
     EXPECT_NEAR(o[0], 40.0, 1e-5);
     EXPECT_NEAR(o[1], -25.0, 1e-5);
@@ -133,7 +138,8 @@ TEST(Dicom, AListOfFilesIsTheSeriesTheFolderIs) {
 }
 
 TEST(Dicom, ShippedPydicomCtSeriesMatchesPydicomsNifti) {
-    const fs::path shipped = "/usr/lib/python3/dist-packages/pydicom/data/test_files/dicomdirtests/98892001/CT5N";
+    const fs::path shipped =
+        "/usr/lib/python3/dist-packages/pydicom/data/test_files/dicomdirtests/98892001/CT5N";
     ASSERT_TRUE(fs::is_directory(shipped)) << "python3-pydicom's test data (scripts/setup.sh)";
     const Volume d = loadVolume(shipped.string());
     // Facts about the series (docs/dependencies.md): 16 × 16 × 5, 2.5 mm apart, intercept −1024.
@@ -144,13 +150,15 @@ TEST(Dicom, ShippedPydicomCtSeriesMatchesPydicomsNifti) {
     // The other shipped series of docs/dependencies.md: CT2 has a gap, CT2N two orientations.
     const fs::path dirs = shipped.parent_path().parent_path();
     expectError([&] { loadVolume((dirs / "77654033/CT2").string()); }, {"CT2", "missing slices"});
-    expectError([&] { loadVolume((dirs / "98892001/CT2N").string()); }, {"CT2N", "mixed orientations"});
+    expectError([&] { loadVolume((dirs / "98892001/CT2N").string()); },
+                {"CT2N", "mixed orientations"});
 }
 
 TEST(Dicom, SeveralSeriesArePickedByUidOrListed) {
-    expectError([&] { loadVolume(at("two_series")); },
-                {at("two_series"), "2 series", "1.2.826.0.1.3680043.8.498.1111", "'first series', 3 slices",
-                 "1.2.826.0.1.3680043.8.498.2222", "'second series', 4 slices", "--series"});
+    expectError(
+        [&] { loadVolume(at("two_series")); },
+        {at("two_series"), "2 series", "1.2.826.0.1.3680043.8.498.1111", "'first series', 3 slices",
+         "1.2.826.0.1.3680043.8.498.2222", "'second series', 4 slices", "--series"});
     LoadOptions o;
     o.series = "1.2.826.0.1.3680043.8.498.2222";
     const Volume v = loadVolume(at("two_series"), o);
@@ -171,14 +179,18 @@ TEST(Dicom, EachBadSeriesHasItsOwnError) {
     expectError([&] { loadVolume(at("gap")); },
                 {at("gap"), "missing slices: 5 mm between", "axial_03.dcm", "axial_04.dcm",
                  "2.5 mm elsewhere", "1 slice missing"});
-    expectError([&] { loadVolume(at("uneven")); }, {at("uneven"), "unevenly spaced slices: 2.5 to 3 mm"});
-    expectError([&] { loadVolume(at("duplicate")); }, {at("duplicate"), "two slices at the same position"});
+    expectError([&] { loadVolume(at("uneven")); },
+                {at("uneven"), "unevenly spaced slices: 2.5 to 3 mm"});
+    expectError([&] { loadVolume(at("duplicate")); },
+                {at("duplicate"), "two slices at the same position"});
     expectError([&] { loadVolume(at("mixed")); },
                 {at("mixed"), "mixed orientations", "axial_03.dcm", "1\\0\\0\\0\\0\\-1"});
-    expectError([&] { loadVolume(at("compressed")); },
-                {"mpeg2.dcm", "GDCM cannot decode the pixel data", "MPEG2", "1.2.840.10008.1.2.4.100"});
+    expectError(
+        [&] { loadVolume(at("compressed")); },
+        {"mpeg2.dcm", "GDCM cannot decode the pixel data", "MPEG2", "1.2.840.10008.1.2.4.100"});
     fs::create_directories(data() / "empty" / "sub");
-    expectError([&] { loadVolume(at("empty")); }, {at("empty"), "no DICOM image file", "subfolders"});
+    expectError([&] { loadVolume(at("empty")); },
+                {at("empty"), "no DICOM image file", "subfolders"});
 }
 
 // Standard error while `f` runs (fd 2 to a temporary file): what a user would see beside the
@@ -258,8 +270,9 @@ TEST(Dicom, ADicomFileIsNeverReadAsRawVoxels) {
     EXPECT_EQ(one.dims, (std::array<int, 3>{5, 4, 1}));
     EXPECT_NEAR(one.spacing[2], 2.5, 1e-9);  // one slice: SliceThickness
     // ... which `lobe render` warns of (it rendered as a slab without a word).
-    EXPECT_EQ(one.note, renamed.string() + ": a single slice, drawn as a slab 2.5 mm thick "
-                        "(SliceThickness); give the folder of the whole series for a volume");
+    EXPECT_EQ(one.note, renamed.string() +
+                            ": a single slice, drawn as a slab 2.5 mm thick "
+                            "(SliceThickness); give the folder of the whole series for a volume");
     EXPECT_EQ(loadVolume(at("ct")).note, "");
     // A raw layout given for a DICOM file or folder is an error, not a reinterpretation.
     LoadOptions raw;

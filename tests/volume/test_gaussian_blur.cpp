@@ -1,6 +1,5 @@
-#include "volume/gaussian_blur.h"
-
 #include "core/error.h"
+#include "volume/gaussian_blur.h"
 
 #include <gtest/gtest.h>
 

@@ -58,10 +58,13 @@ TEST(Mgh, ValuesAndAffineEqualNibabels) {
         ASSERT_EQ(v.dims, (std::array<int, 3>{n[0], n[1], n[2]})) << name;
         // world = affine · (i, j, k, 1): compare the map at the corners of the lattice.
         for (int c = 0; c < 8; ++c) {
-            const openvdb::Vec3d idx((c & 1) ? n[0] - 1 : 0, (c & 2) ? n[1] - 1 : 0, (c & 4) ? n[2] - 1 : 0);
+            const openvdb::Vec3d idx((c & 1) ? n[0] - 1 : 0, (c & 2) ? n[1] - 1 : 0,
+                                     (c & 4) ? n[2] - 1 : 0);
             const openvdb::Vec3d w = v.grid->transform().indexToWorld(idx);
             for (int r = 0; r < 3; ++r)
-                EXPECT_NEAR(w[r], affine[r][0] * idx[0] + affine[r][1] * idx[1] + affine[r][2] * idx[2] + affine[r][3],
+                EXPECT_NEAR(w[r],
+                            affine[r][0] * idx[0] + affine[r][1] * idx[1] + affine[r][2] * idx[2] +
+                                affine[r][3],
                             1e-5)
                     << name << " corner " << c << " row " << r;
         }
@@ -71,7 +74,8 @@ TEST(Mgh, ValuesAndAffineEqualNibabels) {
                 for (int i = 0; i < n[0]; ++i) {
                     double want;
                     ref >> want;
-                    ASSERT_EQ(acc.getValue(openvdb::Coord(i, j, k)), float(want)) << name << " " << i << "," << j << "," << k;
+                    ASSERT_EQ(acc.getValue(openvdb::Coord(i, j, k)), float(want))
+                        << name << " " << i << "," << j << "," << k;
                 }
     }
 }
@@ -97,12 +101,13 @@ TEST(Mgh, FilesNotWhatTheirNamesSay) {
 }
 
 TEST(LabelTables, FreeSurferColorLut) {
-    const LabelTable t = readLabelTable(writeText("FreeSurferColorLUT.txt",
-        "#$Id: FreeSurferColorLUT.txt\n"
-        "#No. Label Name:                            R   G   B   A\n\n"
-        "  0  Unknown                                 0   0   0   0\n"
-        " 17  Left-Hippocampus                      220 216  20   0\n"
-        " 53  Right-Hippocampus                     220 216  20   0\n"));
+    const LabelTable t =
+        readLabelTable(writeText("FreeSurferColorLUT.txt",
+                                 "#$Id: FreeSurferColorLUT.txt\n"
+                                 "#No. Label Name:                            R   G   B   A\n\n"
+                                 "  0  Unknown                                 0   0   0   0\n"
+                                 " 17  Left-Hippocampus                      220 216  20   0\n"
+                                 " 53  Right-Hippocampus                     220 216  20   0\n"));
     EXPECT_EQ(t.format, "freesurfer");
     ASSERT_EQ(t.entries.size(), 3u);
     EXPECT_EQ(t.find(17)->name, "Left-Hippocampus");
@@ -113,13 +118,14 @@ TEST(LabelTables, FreeSurferColorLut) {
 }
 
 TEST(LabelTables, ItkSnapDescription) {
-    const LabelTable t = readLabelTable(writeText("labels.label",
-        "################################################\n"
-        "# ITK-SnAP Label Description File\n"
-        "# IDX   -R-  -G-  -B-  -A--  VIS MSH  LABEL\n"
-        "    0     0    0    0        0  0  0    \"Clear Label\"\n"
-        "    1   255    0    0        1  1  1    \"Left hippocampus\"\n"
-        "    2     0  255    0      0.5  1  1    \"Tumour core\"\n"));
+    const LabelTable t =
+        readLabelTable(writeText("labels.label",
+                                 "################################################\n"
+                                 "# ITK-SnAP Label Description File\n"
+                                 "# IDX   -R-  -G-  -B-  -A--  VIS MSH  LABEL\n"
+                                 "    0     0    0    0        0  0  0    \"Clear Label\"\n"
+                                 "    1   255    0    0        1  1  1    \"Left hippocampus\"\n"
+                                 "    2     0  255    0      0.5  1  1    \"Tumour core\"\n"));
     EXPECT_EQ(t.format, "itksnap");
     EXPECT_EQ(t.find(1)->name, "Left hippocampus");
     EXPECT_EQ(t.find(2)->rgb, (std::array<int, 3>{0, 255, 0}));
@@ -128,15 +134,17 @@ TEST(LabelTables, ItkSnapDescription) {
 }
 
 TEST(LabelTables, MricronTextAndLut) {
-    const std::string txt = writeText("atlas.nii.txt", "1 Precentral_L 2001\n2 Precentral_R 2002\n37 Hippocampus_L 4101\n");
+    const std::string txt = writeText(
+        "atlas.nii.txt", "1 Precentral_L 2001\n2 Precentral_R 2002\n37 Hippocampus_L 4101\n");
     std::string lut(768, '\0');
     lut[37] = char(200);        // red of index 37
     lut[256 + 37] = char(100);  // green
     lut[512 + 37] = char(50);   // blue
     lut[1] = char(10);
     writeText("atlas.nii.lut", lut);
-    for (const LabelTable& t : {readLabelTable(txt), readLabelTable(txt.substr(0, txt.size() - 4) + ".lut"),
-                                tableBeside(txt.substr(0, txt.size() - 4) + ".gz")}) {
+    for (const LabelTable& t :
+         {readLabelTable(txt), readLabelTable(txt.substr(0, txt.size() - 4) + ".lut"),
+          tableBeside(txt.substr(0, txt.size() - 4) + ".gz")}) {
         EXPECT_EQ(t.format, "mricron");
         ASSERT_EQ(t.entries.size(), 3u) << t.source;
         EXPECT_EQ(t.find(37)->name, "Hippocampus_L");
@@ -163,7 +171,9 @@ TEST(LabelTables, ErrorsNameTheFileAndLine) {
     std::string e = errorOf([] { readLabelTable(writeText("bad1.txt", "1 a 2 3 4\n")); });
     EXPECT_NE(e.find("bad1.txt, line 1: not a label table line"), std::string::npos) << e;
     e = errorOf([] { readLabelTable(writeText("bad2.txt", "1 a 255 0 0 0\n2 b 300 0 0 0\n")); });
-    EXPECT_NE(e.find("bad2.txt, line 2: the red component '300' is not a whole number 0–255"), std::string::npos) << e;
+    EXPECT_NE(e.find("bad2.txt, line 2: the red component '300' is not a whole number 0–255"),
+              std::string::npos)
+        << e;
     e = errorOf([] { readLabelTable(writeText("bad3.txt", "1 a\n1 b\n")); });
     EXPECT_NE(e.find("line 2: label 1 is listed twice"), std::string::npos) << e;
     e = errorOf([] { readLabelTable(writeText("bad4.lut", std::string(100, 'x'))); });

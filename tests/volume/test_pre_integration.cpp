@@ -5,15 +5,15 @@
 // opacity gives the exact transmittance at steps larger than the box, where point sampling
 // depends on where its samples fall. Skipping changes a pre-integrated image by at most rounding
 // here.
-#include <gtest/gtest.h>
-
-#include <cmath>
-
 #include "core/rng.h"
 #include "dvr_test_grids.h"
 #include "render/compositor.h"
 #include "volume/pre_integration.h"
 #include "volume/volume_marcher.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace lobe {
 namespace {
@@ -120,7 +120,8 @@ TEST(PreIntegration, SkippingChangesAlmostNothing) {
     // entering and leaving them are kept.
     auto grid = test::makeGrid(
         [](int i, int j, int k) {
-            const double r2 = (i - 20.0) * (i - 20.0) + (j - 20.0) * (j - 20.0) + (k - 20.0) * (k - 20.0);
+            const double r2 =
+                (i - 20.0) * (i - 20.0) + (j - 20.0) * (j - 20.0) + (k - 20.0) * (k - 20.0);
             return std::exp(-r2 / 60.0);
         },
         Coord(0), Coord(40));
@@ -138,7 +139,8 @@ TEST(PreIntegration, SkippingChangesAlmostNothing) {
             const Vec3 dir =
                 normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
             Ray ray;
-            ray.o = Vec3(20) + 8.0 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) -
+            ray.o = Vec3(20) +
+                    8.0 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) -
                     40.0 * dir;
             ray.d = dir;
             const double jitter = rng.uniform();
@@ -146,8 +148,14 @@ TEST(PreIntegration, SkippingChangesAlmostNothing) {
             FrontToBackCompositor ca(0.0), cb(0.0);
             a.begin(ray, jitter);
             b.begin(ray, jitter);
-            a.marchSegment(1e30, [&](const VolumeSample& v) { ca.add(v.alpha, v.colour); return true; });
-            b.marchSegment(1e30, [&](const VolumeSample& v) { cb.add(v.alpha, v.colour); return true; });
+            a.marchSegment(1e30, [&](const VolumeSample& v) {
+                ca.add(v.alpha, v.colour);
+                return true;
+            });
+            b.marchSegment(1e30, [&](const VolumeSample& v) {
+                cb.add(v.alpha, v.colour);
+                return true;
+            });
             worst = std::max(worst, std::abs(ca.transmittance - cb.transmittance));
             mean += 1.0 - cb.transmittance;
             skipped += a.samplesSkipped();

@@ -2,14 +2,14 @@
 // ramps (both filters and both gradient methods exact), a quadratic (B-spline adds the kernel's
 // variance 1/3; trilinear adds t(1 − t); both gradients exact), a single spike (the B-spline
 // approximates, trilinear interpolates), and world-space gradients under anisotropic spacing.
+#include "dvr_test_grids.h"
+#include "volume/reconstruction.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include "dvr_test_grids.h"
-#include "volume/reconstruction.h"
 
 namespace lobe {
 namespace {
@@ -150,8 +150,8 @@ TEST(Reconstruction, BSplineAlongARayMatchesPointEvaluation) {
         [](int i, int j, int k) { return std::sin(0.9 * i) * std::cos(0.7 * j) + 0.05 * k * k; },
         Coord(-4), Coord(20));
     GridReconstructor onRay(*grid), alternating(*grid), atPoint(*grid);
-    const Vec3 dirs[] = {Vec3(1, 0, 0), Vec3(0, -1, 0), Vec3(0, 0, 0.5), Vec3(0.3, 0.7, -0.2),
-                         Vec3(-0.61, 0.13, 0.77), Vec3(2.0, 1.5, 0.25)};
+    const Vec3 dirs[] = {Vec3(1, 0, 0),        Vec3(0, -1, 0),          Vec3(0, 0, 0.5),
+                         Vec3(0.3, 0.7, -0.2), Vec3(-0.61, 0.13, 0.77), Vec3(2.0, 1.5, 0.25)};
     double worst = 0.0;
     for (const Vec3& d : dirs)
         for (const Vec3& o : {Vec3(0.37, 0.81, 0.12), Vec3(8.0, 8.0, 8.0), Vec3(3.5, 12.25, 6.0)}) {

@@ -11,12 +11,12 @@
 // positive coordinates, so the 4³ block crosses leaf boundaries on every axis and meets every
 // kind of node; successive points often share a block, so the cache is used too. The sums are
 // formed in another order, so they agree to rounding (1e-13 of the values' scale, 1).
+#include "core/rng.h"
+#include "volume/reconstruction.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "core/rng.h"
-#include "volume/reconstruction.h"
 
 namespace lobe {
 namespace {
@@ -39,7 +39,8 @@ double betaPrime(double t) {
 // The definition summed over every voxel whose kernel can reach p (a 5³ window: β vanishes
 // outside).
 double definitionBSpline(openvdb::FloatGrid::ConstAccessor& acc, const Vec3& p, Vec3& gradient) {
-    const int i0 = int(std::floor(p.x)) - 2, j0 = int(std::floor(p.y)) - 2, k0 = int(std::floor(p.z)) - 2;
+    const int i0 = int(std::floor(p.x)) - 2, j0 = int(std::floor(p.y)) - 2,
+              k0 = int(std::floor(p.z)) - 2;
     double v = 0.0;
     gradient = Vec3(0.0);
     for (int k = k0; k <= k0 + 4; ++k)
@@ -49,7 +50,8 @@ double definitionBSpline(openvdb::FloatGrid::ConstAccessor& acc, const Vec3& p, 
                 const double bx = beta(p.x - i), by = beta(p.y - j), bz = beta(p.z - k);
                 v += bx * by * bz * f;
                 gradient += Vec3(betaPrime(p.x - i) * by * bz, bx * betaPrime(p.y - j) * bz,
-                                 bx * by * betaPrime(p.z - k)) * f;
+                                 bx * by * betaPrime(p.z - k)) *
+                            f;
             }
     return v;
 }
@@ -82,8 +84,9 @@ TEST(ReconstructionReference, BSplineMatchesTheDefinition) {
     // 4³ block starts at every residue mod 8 on every axis.
     for (int n = 0; n < 20000; ++n) {
         Vec3 p(-16 + 40 * rng.uniform(), -16 + 40 * rng.uniform(), -16 + 40 * rng.uniform());
-        if (n % 4 == 0) p = Vec3(std::floor(p.x) + (n % 8) * 0.125, std::floor(p.y) + 0.5,
-                                 std::floor(p.z));  // exact integers and binary fractions
+        if (n % 4 == 0)
+            p = Vec3(std::floor(p.x) + (n % 8) * 0.125, std::floor(p.y) + 0.5,
+                     std::floor(p.z));  // exact integers and binary fractions
         // p, then a point a small step away (mostly the same 4³ block: the cached one), value
         // first and gradient second as the marcher asks.
         for (const Vec3& q : {p, p + Vec3(0.1, -0.07, 0.05)}) {

@@ -44,15 +44,16 @@ VolumeStats denseStats(const Volume& volume) {
 
 TEST(SparseVolumes, StatisticsOverTilesAndVoxelsEqualTheDenseSum) {
     openvdb::initialize();
-    auto grid = openvdb::FloatGrid::create(-0.5f);  // a background that is not 0
-    grid->tree().addTile(1, openvdb::Coord(8, 0, 0), 2.0f, true);   // an 8³ tile
+    auto grid = openvdb::FloatGrid::create(-0.5f);                 // a background that is not 0
+    grid->tree().addTile(1, openvdb::Coord(8, 0, 0), 2.0f, true);  // an 8³ tile
     grid->tree().setValue(openvdb::Coord(3, 4, 5), 7.0f);
     grid->tree().setValue(openvdb::Coord(30, 2, 1), -3.0f);
     // Boxes that cut the tile, miss the voxels, cover everything, and hold only background.
     for (const auto& [dims, origin] :
-         std::vector<std::pair<std::array<int, 3>, std::array<int, 3>>>{
-             {{40, 12, 10}, {-2, -1, 0}}, {{5, 3, 3}, {10, 1, 1}}, {{4, 4, 4}, {100, 0, 0}},
-             {{1, 1, 1}, {3, 4, 5}}}) {
+         std::vector<std::pair<std::array<int, 3>, std::array<int, 3>>>{{{40, 12, 10}, {-2, -1, 0}},
+                                                                        {{5, 3, 3}, {10, 1, 1}},
+                                                                        {{4, 4, 4}, {100, 0, 0}},
+                                                                        {{1, 1, 1}, {3, 4, 5}}}) {
         const Volume v = volumeOf(grid, dims, origin);
         const VolumeStats fast = computeStats(v), dense = denseStats(v);
         EXPECT_EQ(fast.voxels, dense.voxels);
@@ -75,7 +76,8 @@ TEST(SparseVolumes, StatisticsOfTwoVoxels1e5ApartAreImmediate) {
     const auto start = std::chrono::steady_clock::now();
     const VolumeStats s = computeStats(v);
     // Generous: the dense walk over 1e15 voxels would take days.
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              10.0);
     EXPECT_EQ(s.voxels, int64_t(100001) * 100001 * 100001);
     EXPECT_EQ(s.max, 1.0);
     EXPECT_EQ(s.min, 0.0);

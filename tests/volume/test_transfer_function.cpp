@@ -1,12 +1,12 @@
 // Transfer functions: piecewise-linear evaluation, steps, exact maximum over a range, transparent
 // ranges, opacity correction, the paper's presets and the sRGB → band conversion.
+#include "core/error.h"
+#include "volume/transfer_function.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
-
-#include "core/error.h"
-#include "volume/transfer_function.h"
 
 namespace lobe {
 namespace {

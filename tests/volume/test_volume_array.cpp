@@ -107,8 +107,9 @@ TEST(VolumeArray, BadArraysAreErrorsNamingTheArray) {
         loadArray(a);
         FAIL() << "NaN accepted";
     } catch (const Error& e) {
-        EXPECT_EQ(std::string(e.what()),
-                  "array 7 (objects[0].source): voxel (1, 0, 1) is NaN; volumes must hold finite values");
+        EXPECT_EQ(
+            std::string(e.what()),
+            "array 7 (objects[0].source): voxel (1, 0, 1) is NaN; volumes must hold finite values");
     }
     v[5] = 1.0f;
     a.dims = {2, 0, 2};

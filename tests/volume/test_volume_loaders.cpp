@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/File.h>
-
 #include <sys/resource.h>
 #include <zlib.h>
 
@@ -44,7 +43,8 @@ fs::path tempDir() {
 std::string writeFile(const std::string& name, const Bytes& bytes) {
     const fs::path p = tempDir() / name;
     std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
     return p.string();
 }
 
@@ -144,7 +144,8 @@ TEST(VolumeRaw, Int16BigEndianValuesTransformAndSparsity) {
 TEST(VolumeRaw, ByteOrderSwapsBytes) {
     // Bytes 01 02: big-endian 0x0102 = 258, little-endian 0x0201 = 513.
     const std::string path = writeFile("order.raw", Bytes{0x01, 0x02});
-    EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, VoxelType::kUint16, Endian::kBig)), 0, 0, 0), 258);
+    EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, VoxelType::kUint16, Endian::kBig)), 0, 0, 0),
+              258);
     EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, VoxelType::kUint16, Endian::kLittle)), 0, 0, 0),
               513);
 }
@@ -163,11 +164,15 @@ TEST(VolumeRaw, EveryVoxelType) {
         {VoxelType::kUint32, {0x00, 0x01, 0x00, 0x01}, 65537.0f},
         {VoxelType::kInt32, {0xFF, 0xFF, 0xFF, 0xFD}, -3.0f},
         {VoxelType::kFloat32, {0x3F, 0xC0, 0x00, 0x00}, 1.5f},  // 1.5 = 0x3FC00000
-        {VoxelType::kFloat64, {0xC0, 0x02, 0, 0, 0, 0, 0, 0}, -2.25f},  // -2.25 = 0xC002000000000000
+        {VoxelType::kFloat64,
+         {0xC0, 0x02, 0, 0, 0, 0, 0, 0},
+         -2.25f},  // -2.25 = 0xC002000000000000
     };
     for (const Case& c : cases) {
-        const std::string path = writeFile(std::string("t_") + voxelTypeName(c.type) + ".raw", c.bytes);
-        EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, c.type, Endian::kBig)), 0, 0, 0), c.expected)
+        const std::string path =
+            writeFile(std::string("t_") + voxelTypeName(c.type) + ".raw", c.bytes);
+        EXPECT_EQ(valueAt(loadRaw(path, layout(1, 1, 1, c.type, Endian::kBig)), 0, 0, 0),
+                  c.expected)
             << voxelTypeName(c.type);
         EXPECT_EQ(parseVoxelType(voxelTypeName(c.type)), c.type);
     }
@@ -208,7 +213,8 @@ TEST(VolumeRaw, NormalisationDividesAndRemembersOriginalRange) {
 
 TEST(VolumeRaw, GzipEqualsPlain) {
     Bytes b;
-    for (int n = 0; n < 4 * 3 * 2; ++n) put<std::uint16_t>(b, static_cast<std::uint16_t>(n * 97), true);
+    for (int n = 0; n < 4 * 3 * 2; ++n)
+        put<std::uint16_t>(b, static_cast<std::uint16_t>(n * 97), true);
     const std::string gz = writeGz("g.raw.gz", b);
     LoadOptions o;
     o.hasLayout = true;
@@ -361,9 +367,12 @@ TEST(VolumeNifti, SformLittleEndian) {
     NiftiSpec s;
     s.sformCode = 2;
     // x = −2 i + 90, y = 2 j − 126, z = 2 k − 72 (the SPM priors' LAS affine).
-    s.srow[0][0] = -2; s.srow[0][3] = 90;
-    s.srow[1][1] = 2; s.srow[1][3] = -126;
-    s.srow[2][2] = 2; s.srow[2][3] = -72;
+    s.srow[0][0] = -2;
+    s.srow[0][3] = 90;
+    s.srow[1][1] = 2;
+    s.srow[1][3] = -126;
+    s.srow[2][2] = 2;
+    s.srow[2][3] = -72;
     const std::string path = writeFile("sform.nii", niftiFile(s, ramp(8)));
     const Volume v = loadNifti(path);
     expectNear(world(v, 0, 0, 0), {90, -126, -72});
@@ -385,10 +394,16 @@ TEST(VolumeNifti, QformBigEndianWithQfac) {
         s.bitpix = 16;
         s.qformCode = 1;
         s.quat[2] = static_cast<float>(std::sqrt(0.5));
-        s.qoffset[0] = 10; s.qoffset[1] = 20; s.qoffset[2] = 30;
-        s.pixdim[0] = qfac; s.pixdim[1] = 2; s.pixdim[2] = 3; s.pixdim[3] = 4;
+        s.qoffset[0] = 10;
+        s.qoffset[1] = 20;
+        s.qoffset[2] = 30;
+        s.pixdim[0] = qfac;
+        s.pixdim[1] = 2;
+        s.pixdim[2] = 3;
+        s.pixdim[3] = 4;
         Bytes voxels;
-        for (int n = 0; n < 8; ++n) put<std::int16_t>(voxels, static_cast<std::int16_t>(-300 * n), true);
+        for (int n = 0; n < 8; ++n)
+            put<std::int16_t>(voxels, static_cast<std::int16_t>(-300 * n), true);
         const std::string path = writeFile("qform.nii", niftiFile(s, voxels));
         const Volume v = loadNifti(path);
         expectNear(world(v, 0, 0, 0), {10, 20, 30});
@@ -401,7 +416,9 @@ TEST(VolumeNifti, QformBigEndianWithQfac) {
 
 TEST(VolumeNifti, PixdimFallbackAndScaling) {
     NiftiSpec s;
-    s.pixdim[1] = 0.5; s.pixdim[2] = 0.75; s.pixdim[3] = 3;
+    s.pixdim[1] = 0.5;
+    s.pixdim[2] = 0.75;
+    s.pixdim[3] = 3;
     s.slope = 0;  // nifti1.h: slope 0 means no scaling
     s.inter = 7;
     Volume v = loadNifti(writeFile("pixdim.nii", niftiFile(s, ramp(8))));
@@ -517,18 +534,20 @@ TEST(VolumeNrrd, DetachedHeaderWithSpacingsAndDirections) {
     Bytes b;
     for (int n = 0; n < 8; ++n) put<std::int16_t>(b, static_cast<std::int16_t>(n + 1), true);
     writeGz("n.raw.gz", b);
-    const std::string header = "NRRD0004\n# a comment\ntype: short\ndimension: 3\n"
-                               "sizes: 2 2 2\nspacings: 1 1 2\nendian: big\nencoding: gzip\n"
-                               "data file: n.raw.gz\n";
+    const std::string header =
+        "NRRD0004\n# a comment\ntype: short\ndimension: 3\n"
+        "sizes: 2 2 2\nspacings: 1 1 2\nendian: big\nencoding: gzip\n"
+        "data file: n.raw.gz\n";
     const std::string path = writeFile("n.nhdr", Bytes(header.begin(), header.end()));
     const Volume v = loadVolume(path);
     EXPECT_EQ(valueAt(v, 1, 1, 1), 8.0f);
     expectNear(world(v, 1, 1, 1), {1, 1, 2});
 
-    const std::string dirs = "NRRD0005\ntype: int16\ndimension: 3\nsizes: 2 2 2\n"
-                             "space directions: (0,2,0) (-1,0,0) (0,0,3)\n"
-                             "space origin: (5,6,7)\nendian: big\nencoding: gzip\n"
-                             "data file: n.raw.gz\n";
+    const std::string dirs =
+        "NRRD0005\ntype: int16\ndimension: 3\nsizes: 2 2 2\n"
+        "space directions: (0,2,0) (-1,0,0) (0,0,3)\n"
+        "space origin: (5,6,7)\nendian: big\nencoding: gzip\n"
+        "data file: n.raw.gz\n";
     const Volume d = loadVolume(writeFile("d.nhdr", Bytes(dirs.begin(), dirs.end())));
     expectNear(world(d, 1, 0, 0), {5, 8, 7});  // origin + first direction
     expectNear(world(d, 0, 1, 1), {4, 6, 10});
@@ -538,12 +557,15 @@ TEST(VolumeErrors, NrrdHeaders) {
     const std::string bad = "NRRX0004\ntype: short\n";
     const std::string badPath = writeFile("bad.nhdr", Bytes(bad.begin(), bad.end()));
     expectError([&] { loadVolume(badPath); }, {badPath, "wrong magic"});
-    const std::string missing = "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\n"
-                                "endian: big\ndata file: nowhere.raw\n";
-    const std::string missingPath = writeFile("missing.nhdr", Bytes(missing.begin(), missing.end()));
+    const std::string missing =
+        "NRRD0004\ntype: short\ndimension: 3\nsizes: 2 2 2\n"
+        "endian: big\ndata file: nowhere.raw\n";
+    const std::string missingPath =
+        writeFile("missing.nhdr", Bytes(missing.begin(), missing.end()));
     expectError([&] { loadVolume(missingPath); }, {"nowhere.raw", "cannot open"});
-    const std::string type = "NRRD0004\ntype: block\ndimension: 3\nsizes: 2 2 2\n"
-                             "data file: n.raw.gz\n";
+    const std::string type =
+        "NRRD0004\ntype: block\ndimension: 3\nsizes: 2 2 2\n"
+        "data file: n.raw.gz\n";
     const std::string typePath = writeFile("type.nhdr", Bytes(type.begin(), type.end()));
     expectError([&] { loadVolume(typePath); }, {typePath, "unknown voxel type 'block'"});
 }
@@ -552,7 +574,8 @@ TEST(VolumeErrors, NrrdHeaders) {
 
 TEST(VolumeVdb, RoundTripKeepsValuesTransformAndMetadata) {
     Bytes b;
-    for (int n = 0; n < 24; ++n) put<std::int16_t>(b, static_cast<std::int16_t>(n % 5 == 0 ? 0 : n * 10), false);
+    for (int n = 0; n < 24; ++n)
+        put<std::int16_t>(b, static_cast<std::int16_t>(n % 5 == 0 ? 0 : n * 10), false);
     RawLayout l = layout(4, 3, 2, VoxelType::kInt16, Endian::kLittle);
     l.spacing = {0.5, 1, 2};
     LoadOptions o;
@@ -585,7 +608,8 @@ TEST(VolumeVdb, RoundTripKeepsValuesTransformAndMetadata) {
 // Lobe's metadata in a .vdb is input like any other: a NaN or infinite value scale, range or
 // background, or dims beyond 2^30 a side, is refused by name (a NaN scale was read as 1).
 TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
-    const Volume v = loadRaw(writeFile("m.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const Volume v = loadRaw(writeFile("m.raw", Bytes{1, 2}),
+                             layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
     const std::string good = (tempDir() / "meta.vdb").string();
     writeVdb(v, good);
     const auto withMeta = [&](const std::string& name, const std::string& key,
@@ -600,8 +624,8 @@ TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
         return path;
     };
     for (const char* key : {"lobe_value_scale", "lobe_original_min", "lobe_background"}) {
-        const std::string path = withMeta(std::string(key) + ".vdb", key,
-                                          openvdb::DoubleMetadata(std::nan("")));
+        const std::string path =
+            withMeta(std::string(key) + ".vdb", key, openvdb::DoubleMetadata(std::nan("")));
         expectError([&] { loadVdb(path); }, {path, std::string("metadata ") + key, "not a finite"});
     }
     const std::string huge =
@@ -609,8 +633,8 @@ TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
     expectError([&] { loadVdb(huge); }, {huge, "lobe_dims", "2^30"});
     // Each side within 2^30 but the box beyond 2^53 voxels (a fuzz finding: the voxel count
     // overflowed int64 in computeStats).
-    const std::string cube = withMeta("cube.vdb", "lobe_dims",
-                                      openvdb::Vec3IMetadata(openvdb::Vec3i(1 << 30, 1 << 30, 1 << 30)));
+    const std::string cube = withMeta(
+        "cube.vdb", "lobe_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(1 << 30, 1 << 30, 1 << 30)));
     expectError([&] { loadVdb(cube); }, {cube, "more than 2^53"});
 }
 
@@ -618,7 +642,8 @@ TEST(VolumeErrors, VdbMetadataMustBeFiniteAndInRange) {
 // buffer of that size (a 4 GB metadata string took seconds and gigabytes before the read
 // failed). Every registered metadata type of a valid file passes the same walk.
 TEST(VolumeErrors, VdbSizeFieldsBeyondTheFileAreRefusedUpFront) {
-    const Volume v = loadRaw(writeFile("s.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const Volume v = loadRaw(writeFile("s.raw", Bytes{1, 2}),
+                             layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
     const std::string plain = (tempDir() / "sizes_plain.vdb").string();
     writeVdb(v, plain);
     openvdb::io::File in(plain);
@@ -719,20 +744,22 @@ TEST(VolumeVdb, TreeWalkAcceptsEveryValidLayout) {
         state = state * 1664525u + 1013904223u;
         tree.setValueOn(openvdb::Coord(-8 + v % 8, v / 8 % 8, v / 64), float(state >> 8) * 1e-6f);
     }
-    tree.addTile(1, openvdb::Coord(64, 0, 0), 3.f, true);    // an active 8³ tile
-    tree.addTile(1, openvdb::Coord(72, 0, 0), 4.f, false);   // an inactive one
+    tree.addTile(1, openvdb::Coord(64, 0, 0), 3.f, true);     // an active 8³ tile
+    tree.addTile(1, openvdb::Coord(72, 0, 0), 4.f, false);    // an inactive one
     tree.addTile(3, openvdb::Coord(8192, 0, 0), 5.f, false);  // a root tile
     const openvdb::Index64 active = tree.activeVoxelCount();
 
     using namespace openvdb::io;
-    const std::uint32_t compressions[] = {COMPRESS_NONE, COMPRESS_ZIP, COMPRESS_ACTIVE_MASK,
-                                          COMPRESS_ZIP | COMPRESS_ACTIVE_MASK, COMPRESS_BLOSC,
-                                          COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK};
+    const std::uint32_t compressions[] = {
+        COMPRESS_NONE,        COMPRESS_ZIP,
+        COMPRESS_ACTIVE_MASK, COMPRESS_ZIP | COMPRESS_ACTIVE_MASK,
+        COMPRESS_BLOSC,       COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK};
     for (const bool half : {false, true})
         for (const std::uint32_t compression : compressions) {
             grid->setSaveFloatAsHalf(half);
             const std::string path = (tempDir() / ("layout_" + std::to_string(compression) +
-                                                   (half ? "_half" : "") + ".vdb")).string();
+                                                   (half ? "_half" : "") + ".vdb"))
+                                         .string();
             openvdb::io::File out(path);
             out.setCompression(compression);
             out.write({grid});
@@ -812,8 +839,8 @@ TEST(VolumeErrors, VdbValueChunksAreCheckedAgainstTheirNodes) {
         const std::string bytes = written(name + ".vdb", codec | COMPRESS_ACTIVE_MASK);
         const size_t at = codec == COMPRESS_ZIP ? findInt64(bytes, -16) : findBlosc(bytes, 16);
         ASSERT_NE(at, std::string::npos) << name;
-        for (const std::int64_t lie : {std::int64_t(-4096), std::int64_t(-8),
-                                       std::numeric_limits<std::int64_t>::min()}) {
+        for (const std::int64_t lie :
+             {std::int64_t(-4096), std::int64_t(-8), std::numeric_limits<std::int64_t>::min()}) {
             std::string b = bytes;
             std::memcpy(&b[at], &lie, 8);
             const std::string path = saved(name + "_lie" + std::to_string(lie % 1000) + ".vdb", b);
@@ -866,7 +893,8 @@ TEST(VolumeErrors, VdbValueChunksAreCheckedAgainstTheirNodes) {
 // voxels holding 0 … 99 in shuffled order: the k-th smallest value is k − 1.
 TEST(VolumeSummary, PercentilesHistogramAndBlur) {
     Bytes b(100);
-    for (int i = 0; i < 100; ++i) b[std::size_t(i)] = std::uint8_t((i * 37) % 100);  // a permutation
+    for (int i = 0; i < 100; ++i)
+        b[std::size_t(i)] = std::uint8_t((i * 37) % 100);  // a permutation
     const std::string path = writeFile("hundred.raw", b);
     LoadOptions o;
     o.hasLayout = true;
@@ -938,7 +966,8 @@ TEST(VolumeSummary, NormaliseByAPercentileAsInfoPrintsIt) {
 }
 
 TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
-    const Volume v = loadRaw(writeFile("w.raw", Bytes{1, 2}), layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const Volume v = loadRaw(writeFile("w.raw", Bytes{1, 2}),
+                             layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
     const fs::path dir = tempDir() / "no_such_dir";
     expectError([&] { writeVdb(v, (dir / "x.vdb").string()); }, {"x.vdb", "cannot write"});
     EXPECT_FALSE(fs::exists(dir));
@@ -965,8 +994,7 @@ TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
     expectError([&] { convertVolume(shortRaw, (tempDir() / "x.nii").string(), o, ""); },
                 {"x.nii", ".vdb"});
     for (const auto& entry : fs::directory_iterator(tempDir()))
-        EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
-            << entry.path();
+        EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
     const std::string goodRaw = writeFile("conv_ok.raw", Bytes{0, 3, 0, 4, 5, 0, 0, 9});
     const VolumeSummary s = convertVolume(goodRaw, out, o, "");
     EXPECT_TRUE(fs::exists(out));

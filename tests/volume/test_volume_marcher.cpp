@@ -5,17 +5,17 @@
 // lattice; the gradient threshold. Samples are composited with the renderer's compositor
 // (render/compositor.h); the integrator's depth merge of several volumes is tested through the
 // integrator itself (tests/render/test_hybrid.cpp).
+#include "core/rng.h"
+#include "dvr_test_grids.h"
+#include "render/compositor.h"
+#include "volume/volume_marcher.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
-
-#include "core/rng.h"
-#include "dvr_test_grids.h"
-#include "render/compositor.h"
-#include "volume/volume_marcher.h"
 
 namespace lobe {
 namespace {
@@ -319,8 +319,10 @@ TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
     // cells 4, 5 and 6 — and still composites exactly the samples of the march without skipping.
     const openvdb::FloatGrid::Ptr grid =
         test::makeGrid([](int i, int, int) { return double(i); }, Coord(0), Coord(15));
-    const TransferFunction shell({{5.2, 0.0, Spectrum(1.0)}, {5.2, 0.2, Spectrum(1.0)},
-                                  {5.8, 0.2, Spectrum(1.0)}, {5.8, 0.0, Spectrum(1.0)}});
+    const TransferFunction shell({{5.2, 0.0, Spectrum(1.0)},
+                                  {5.2, 0.2, Spectrum(1.0)},
+                                  {5.8, 0.2, Spectrum(1.0)},
+                                  {5.8, 0.0, Spectrum(1.0)}});
     DvrSettings on, off;
     on.reconstruction = off.reconstruction = Reconstruction::kCubicBSpline;
     on.stepVoxels = off.stepVoxels = 0.1;

@@ -105,7 +105,8 @@ TEST(RealData, MniGreyMatterAssetCounts) {
 }
 
 TEST(RealData, MniT1AssetNonZeroVoxels) {
-    const Volume v = loadVolume(kAssets + "/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz");
+    const Volume v =
+        loadVolume(kAssets + "/brain/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz");
     EXPECT_EQ(v.dims, (std::array<int, 3>{197, 233, 189}));
     const Counts c = count(v, {0, 0, 0, 0});
     EXPECT_EQ(c.nonZero, 1886539);
@@ -113,8 +114,8 @@ TEST(RealData, MniT1AssetNonZeroVoxels) {
     EXPECT_EQ(c.max, 255.0);
 }
 
-// assets/brain/README.md: 91×109×91, affine diag(−2, 2, 2) origin (90, −126, −72) (LAS), prob = raw ×
-// scl_slope. FieldMap grey (little-endian, slope 0.0037677817): max 0.9608, non-zero 338,634,
+// assets/brain/README.md: 91×109×91, affine diag(−2, 2, 2) origin (90, −126, −72) (LAS), prob = raw
+// × scl_slope. FieldMap grey (little-endian, slope 0.0037677817): max 0.9608, non-zero 338,634,
 // above 0.70/0.75/0.80/0.85: 40,766 / 23,712 / 13,165 / 5,369.
 TEST(RealData, SpmFieldMapGreyAsset) {
     const Volume v = loadVolume(kAssets + "/brain/grey_icbm151_smooth8mm_FieldMap.nii.gz");
