@@ -254,9 +254,10 @@ TEST(HeTorranceCost, TheCapNeverBindsInRange) {
             ASSERT_TRUE(std::isfinite(d)) << "g " << g << " a " << a;
             EXPECT_LE(terms, kTermBudgetPerBand) << "g " << g << " a " << a;
             // (g = 1.6e6 against the definition: SeriesDMatchesTheDefinitionAcrossGAndA.)
-            if (g < 10.0)
+            if (g < 10.0) {
                 EXPECT_LE(relativeDifference(d, seriesByDefinition(g, vxy2, tau)), allowed(g))
                     << "g " << g << " a " << a;
+            }
         }
 }
 
