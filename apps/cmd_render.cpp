@@ -9,7 +9,7 @@
 #include "apps/output_folder.h"
 #include "apps/render_batch.h"
 #include "apps/scene_overrides.h"
-#include "core/cluster.h"
+#include "cluster/cluster.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/progress.h"

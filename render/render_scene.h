@@ -27,7 +27,7 @@ struct RenderOptions {
     // being image row rowBegin — one band of a poster (apps/figure_output.h), whose memory is
     // the band's, not the image's. The pixels are the same as in the whole image.
     bool bandOnly = false;
-    TileSource* tileSource = nullptr;  // tiles shared with other processes (core/cluster.h)
+    TileSource* tileSource = nullptr;  // tiles shared with other processes (cluster/cluster.h)
     // When set, the render also counts BRDF evaluations per object and times its parts into
     // *cost (render/render_cost.h); the image is the same with or without.
     RenderCost* cost = nullptr;
