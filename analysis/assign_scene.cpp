@@ -1,22 +1,14 @@
-// `lobe assign SCENE --out BEST.json`: chooses each object's BRDF so that the objects' highlights
-// stay apart in the rendering — the paper's proposed "adaptive BRDF". One render at a reduced size
-// (default 256 wide, 2 spp) gives every object's specular layer for every candidate BRDF
-// (render/aov.h); every assignment is then scored from the layers without rendering again
-// (analysis/assign.h explains why that is exact). Writes BEST.json (the scene with the chosen
-// models; image settings and everything else as in the input, data paths made relative to
-// BEST.json's folder) and BEST-assign.md (the ranked table, the scene's own assignment and its
-// rank). Objects can be kept (--keep NAME) and models excluded (--exclude MODEL); --tune adds the
-// documented parameter variants of every model (analysis/properties.h) as candidates.
+// `lobe assign` (analysis/assign_scene.h).
+#include "analysis/assign_scene.h"
+
 #include "analysis/overlap_report.h"
 #include "analysis/scene_passes.h"
-#include "apps/commands.h"
-#include "apps/scene_overrides.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "materials/registry.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -29,24 +21,6 @@ namespace lobe {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct AssignCommand {
-    std::string scene;
-    std::string out;
-    std::vector<std::string> keep, exclude;
-    SceneOverrides overrides;
-    bool tune = false;
-    bool force = false;
-    bool quiet = false;
-    bool distinct = false;
-    std::string equalAlbedo;  // the albedo at normal incidence ("" with the flag alone: 0.1)
-    CLI::Option* equalAlbedoOption = nullptr;
-    double keepFraction = 0.8;    // least visibility and chroma against the input's (0: no bound)
-    double brightnessBand = 0.0;  // > 1: each object's mean luminance within [1/b, b] × the input's
-    std::string metric = "weber";
-    int top = 10;
-    int threads = 0;
-};
 
 std::string fmt(const char* f, double v) {
     char buf[64];
@@ -161,7 +135,9 @@ std::string chosenSceneJson(const SceneSpec& spec, const std::vector<BrdfCandida
     return j.dump(1) + "\n";
 }
 
-void runAssign(AssignCommand& cmd) {
+}  // namespace
+
+void assignScene(const AssignRequest& cmd) {
     cmd.overrides.validate();
     if (cmd.top < 1 || cmd.top > 1000) throw Error("--top must be in [1, 1000]");
     if (!(cmd.keepFraction >= 0.0 && cmd.keepFraction <= 1.0))
@@ -170,8 +146,6 @@ void runAssign(AssignCommand& cmd) {
         throw Error("--brightness-band must be > 1 (or 0: no band), got " +
                     std::to_string(cmd.brightnessBand));
     double albedo = 0.0;
-    if (cmd.equalAlbedoOption && cmd.equalAlbedoOption->count() > 0 && cmd.equalAlbedo.empty())
-        cmd.equalAlbedo = "0.1";
     if (!cmd.equalAlbedo.empty()) {
         try {
             size_t used = 0;
@@ -417,56 +391,6 @@ void runAssign(AssignCommand& cmd) {
                          before.objects[i].chroma, after.objects[i].chroma);
         std::fprintf(stderr, "-> %s, %s\n", cmd.out.c_str(), report.c_str());
     }
-}
-
-}  // namespace
-
-void registerAssignCommand(CLI::App& app) {
-    static AssignCommand cmd;
-    CLI::App* sub = app.add_subcommand(
-        "assign",
-        "Choose each object's BRDF so that the objects are told apart: highlights apart, "
-        "every object still seen and its colour kept (the paper's adaptive BRDF); writes "
-        "the scene with the chosen models");
-    sub->add_option("scene", cmd.scene, "scene file")->required();
-    sub->add_option("--out", cmd.out, "the scene file to write (.json)")->required();
-    sub->add_option("--keep", cmd.keep, "object whose BRDF stays as in the scene (repeatable)");
-    sub->add_option("--exclude", cmd.exclude, "model not to choose (repeatable)");
-    sub->add_flag(
-        "--tune", cmd.tune,
-        "also try each model's documented parameter variants (docs/brdf-properties.md); "
-        "a variant whose highlight on an object is mostly sub-pixel specks is not offered");
-    cmd.equalAlbedoOption =
-        sub->add_option(
-               "--equal-albedo", cmd.equalAlbedo,
-               "scale every candidate lobe to albedo A at normal incidence (compare models "
-               "by shape, not magnitude); A = 0.1 when no value is given; off by default")
-            ->expected(0, 1)
-            ->type_name("[A]");
-    sub->add_flag("--distinct", cmd.distinct, "no two objects share a model");
-    sub->add_option("--keep-visible", cmd.keepFraction,
-                    "every object's visibility and chroma stay at least this fraction of the "
-                    "input's (0: no bound)")
-        ->capture_default_str();
-    sub->add_option(
-           "--brightness-band", cmd.brightnessBand,
-           "B > 1: every object's mean luminance within [1/B, B] × the input's (0: no band)")
-        ->capture_default_str();
-    sub->add_option("--metric", cmd.metric,
-                    "the score: weber (highlight separation × visibility, veiling, identity) or "
-                    "itp (ΔE_ITP detection maps)")
-        ->capture_default_str();
-    sub->add_option("--top", cmd.top, "ranked assignments in the report")->capture_default_str();
-    cmd.overrides.addOptions(*sub);
-    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 1024));
-    sub->add_flag("--force", cmd.force, "replace --out and its report if they exist");
-    sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
-    sub->footer(
-        "The layers are rendered at 256 pixels wide and 2 spp unless --width/--spp/--preview say "
-        "otherwise.");
-    sub->callback([] { runAssign(cmd); });
 }
 
 }  // namespace lobe

@@ -1,23 +1,17 @@
-// `lobe render SCENE... [--out DIR]`: renders scene files (docs/scene-format.md) to EXR and PNG.
-// Given several scenes, a folder of them or a list file, it validates every scene first (so a
-// typo in the 20th file is reported before hours of rendering), renders them one after another
-// with one progress display over the whole batch, and writes a contact sheet per scene group.
-#include "apps/commands.h"
-#include "apps/contact_sheet.h"
-#include "apps/cost_report.h"
-#include "apps/figure_output.h"
-#include "apps/output_folder.h"
-#include "apps/render_batch.h"
-#include "apps/scene_overrides.h"
+// The batch engine (batch/batch.h): `lobe render`, `lobe merge` and renderBatch.
+#include "batch/batch.h"
+
+#include "analysis/cost_report.h"
 #include "cluster/cluster.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "core/output_folder.h"
 #include "core/progress.h"
+#include "figure/contact_sheet.h"
+#include "figure/figure_output.h"
 #include "render/framing.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
-
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -34,25 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RenderCommand {
-    std::vector<std::string> inputs;
-    std::string listFile;
-    std::string outDir = "out";
-    SceneOverrides overrides;
-    int threads = 0;
-    bool quiet = false;
-    bool noContactSheets = false;
-    int sheetThumb = 256;
-    std::string aov;            // --aov LIST: per-object passes as extra EXR channels
-    bool check = false;         // validate every scene, print every error, render nothing
-    bool skipExisting = false;  // resume: scenes whose EXR and PNG exist are not rendered again
-    bool keepGoing = false;     // a failing scene is reported and the batch goes on
-    std::string shard;          // "i/N": render part i of N (array jobs; `lobe merge` joins)
-    int orbit = 0;              // --orbit N: each scene as N turntable frames (render/framing.h)
-    bool stats = false;         // print CPU time by part and BRDF evaluations per object
-    FigureOptions figure;       // -o, --exr, --png-bits, --background (apps/figure_output.h)
-    std::vector<RenderedImage>* rendered = nullptr;  // renderBatch: the images written
-};
+using RenderCommand = BatchOptions;
 
 // --shard i/N → (i, N); N = 0 when not sharding.
 std::pair<int, int> parseShard(const std::string& text) {
@@ -247,7 +223,7 @@ std::string outputBase(const RenderCommand& cmd, const SceneSpec& spec) {
     return (fs::path(cmd.outDir) / stem).string();
 }
 
-void runRender(const RenderCommand& cmd) {
+void runRender(const RenderCommand& cmd, std::vector<RenderedImage>* rendered) {
     // Under mpirun every process reads the scenes and renders; rank 0 alone prints and writes.
     const bool root = cluster::isRoot();
     const bool quiet = cmd.quiet || !root;
@@ -450,7 +426,7 @@ void runRender(const RenderCommand& cmd) {
             withAlpha.alpha = spec.background.needsAlpha();
             RenderCost cost;  // --stats (a process's own share under mpirun: not printed)
             const bool withCost = cmd.stats && !cluster::distributed();
-            // In bands of rows (a poster: apps/figure_output.h), each written as it is done;
+            // In bands of rows (a poster: figure/figure_output.h), each written as it is done;
             // one band for an image up to 2048².
             std::unique_ptr<FigureWriter> writer;
             if (root)
@@ -498,7 +474,7 @@ void runRender(const RenderCommand& cmd) {
                 std::fflush(stdout);
             }
             if (inSheet) sheets[spec.group].push_back({rgb, spec.title});
-            if (cmd.rendered) cmd.rendered->push_back({spec.path, spec.title, base});
+            if (rendered) rendered->push_back({spec.path, spec.title, base});
         } catch (const cluster::CollectiveError& e) {
             // A scene that failed to load on some process: every process skips it.
             if (!cmd.keepGoing) throw;
@@ -645,8 +621,14 @@ void runMerge(const RenderCommand& cmd) {
 
 }  // namespace
 
+void renderScenes(const BatchOptions& options, std::vector<RenderedImage>* rendered) {
+    runRender(options, rendered);
+}
+
+void mergeShards(const BatchOptions& options) { runMerge(options); }
+
 std::vector<RenderedImage> renderBatch(const RenderBatchRequest& request) {
-    RenderCommand cmd;
+    BatchOptions cmd;
     cmd.inputs = request.scenes;
     cmd.outDir = request.outDir;
     cmd.overrides = request.overrides;
@@ -655,107 +637,8 @@ std::vector<RenderedImage> renderBatch(const RenderBatchRequest& request) {
     cmd.quiet = request.quiet;
     cmd.noContactSheets = true;
     std::vector<RenderedImage> rendered;
-    cmd.rendered = &rendered;
-    runRender(cmd);
+    runRender(cmd, &rendered);
     return rendered;
-}
-
-namespace {
-
-struct SheetCommand {
-    std::string out;
-    std::vector<std::string> images;  // IMAGE or IMAGE=CAPTION
-    int columns = 3;
-    int thumb = 256;
-};
-
-void runSheet(const SheetCommand& cmd) {
-    if (cmd.columns < 1 || cmd.thumb < 16) throw Error("--columns must be >= 1 and --thumb >= 16");
-    std::vector<ContactSheetEntry> entries;
-    for (const std::string& item : cmd.images) {
-        const auto eq = item.find('=');
-        const std::string path = item.substr(0, eq);
-        const std::string caption =
-            eq == std::string::npos ? fs::path(path).stem().string() : item.substr(eq + 1);
-        entries.push_back({readImage(path), caption});
-    }
-    writeContactSheet(cmd.out, entries, cmd.columns, cmd.thumb);
-}
-
-}  // namespace
-
-void registerRenderCommand(CLI::App& app) {
-    static SheetCommand sheet;
-    CLI::App* sheetSub = app.add_subcommand(
-        "contact-sheet", "Put existing images side by side with captions (as render batches do)");
-    sheetSub->add_option("--out", sheet.out, "the sheet to write (.png, .jpg, .exr)")->required();
-    sheetSub->add_option("images", sheet.images, "IMAGE or IMAGE=CAPTION, in order")->required();
-    sheetSub->add_option("--columns", sheet.columns, "images per row")->capture_default_str();
-    sheetSub->add_option("--thumb", sheet.thumb, "thumbnail width in pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 4096));
-    sheetSub->callback([] { runSheet(sheet); });
-
-    static RenderCommand cmd;
-    CLI::App* sub = app.add_subcommand(
-        "render",
-        "Render scene files (JSON) to EXR and PNG; several scenes or a folder make a "
-        "batch with contact sheets per scene group");
-    sub->add_option("scenes", cmd.inputs, "scene files or folders of them");
-    sub->add_option("--list", cmd.listFile, "a file listing scene files, one per line");
-    sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
-    cmd.overrides.addOptions(*sub);
-    sub->add_option("--threads", cmd.threads, "worker threads (0: all cores)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 1024));
-    sub->add_option("--sheet-thumb", cmd.sheetThumb, "contact sheet thumbnail width")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 4096));
-    sub->add_flag("--no-contact-sheets", cmd.noContactSheets, "write no contact sheets");
-    sub->add_flag("--check", cmd.check,
-                  "read and check every scene, print every error, render nothing");
-    sub->add_flag("--skip-existing", cmd.skipExisting,
-                  "do not render scenes whose .exr and .png exist (resume a batch)");
-    sub->add_flag("--keep-going", cmd.keepGoing,
-                  "report a failing scene and go on with the others (exit 1 at the end)");
-    sub->add_option("--shard", cmd.shard,
-                    "I/N: render part I (0-based) of N — every N-th scene of a batch, or a band of "
-                    "rows of one image written as NAME.part-I-of-N.exr; `lobe merge` joins them "
-                    "(docs/cluster.md)");
-    sub->add_option(
-        "--aov", cmd.aov,
-        "extra EXR passes: all, or a comma list of objects (each object's lambert and "
-        "specular contribution), backdrop, depth, normal, id (object contributing most)");
-    sub->add_option("--orbit", cmd.orbit,
-                    "N: a turntable of each scene, N frames turned 360/N degrees apart about the "
-                    "camera's up axis through the objects' centre, lights turning with the camera; "
-                    "writes NAME-orbit-000.exr/.png ... and contact-sheet-NAME-orbit.png")
-        ->check(CLI::Range(1, 3600));
-    cmd.figure.addOptions(*sub);
-    sub->add_flag("--quiet", cmd.quiet, "no progress display or summary");
-    sub->add_flag("--stats", cmd.stats,
-                  "after each scene, print its CPU time by part and each object's BRDF "
-                  "evaluations and shading time (as `lobe cost`; docs/cost.md)");
-    sub->callback([] { runRender(cmd); });
-
-    static RenderCommand merge;
-    CLI::App* mergeSub = app.add_subcommand(
-        "merge",
-        "Join what `lobe render --shard I/N` wrote (parts of one image, or a batch's "
-        "scenes) into the files of one run, and write the contact sheets");
-    mergeSub->add_option("scenes", merge.inputs, "the scene files given to the sharded renders");
-    mergeSub->add_option("--list", merge.listFile, "a file listing scene files, one per line");
-    mergeSub->add_option("--out", merge.outDir, "the output folder of the sharded renders")
-        ->capture_default_str();
-    merge.overrides.addOptions(*mergeSub);
-    mergeSub->add_option("--aov", merge.aov, "the --aov the parts were rendered with");
-    mergeSub->add_option("--sheet-thumb", merge.sheetThumb, "contact sheet thumbnail width")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 4096));
-    mergeSub->add_flag("--no-contact-sheets", merge.noContactSheets, "write no contact sheets");
-    mergeSub->add_flag("--quiet", merge.quiet, "no summary");
-    mergeSub->footer("Give it the same scene files and overrides as the sharded renders.");
-    mergeSub->callback([] { runMerge(merge); });
 }
 
 }  // namespace lobe

@@ -27,7 +27,7 @@ foreach(prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
   endif()
 endforeach()
 
-# Captions are drawn with FreeType (core/image_text.cpp; Debian libfreetype-dev): OpenImageIO's
+# Captions are drawn with FreeType (figure/image_text.cpp; Debian libfreetype-dev): OpenImageIO's
 # render_text garbles every non-ASCII character.
 find_package(Freetype REQUIRED)
 

@@ -2,7 +2,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "core/image_text.h"
+#include "figure/image_text.h"
 #include "core/pixel_loop.h"
 #include "materials/registry.h"
 #include "render/shading.h"
