@@ -2,6 +2,7 @@
 #include "batch/batch.h"
 
 #include "analysis/cost_report.h"
+#include "batch/batch_eta.h"
 #include "cluster/cluster.h"
 #include "core/error.h"
 #include "core/image_output.h"
@@ -346,6 +347,24 @@ void runRender(const RenderCommand& cmd, std::vector<RenderedImage>* rendered) {
     ProgressReporter progress(files.size() == 1 ? "render" : "render batch", totalPixels, !quiet);
     std::map<std::string, std::vector<ContactSheetEntry>> sheets;
     std::unique_ptr<RenderScene> assembled;  // the last scene assembled (an orbit keeps it)
+    // The display's ETA from the measured cost of the work (batch/batch_eta.h) when the work
+    // comes in parts (scenes, frames, bands) whose cost per pixel can differ: the first scene
+    // profiled now, the others as they are assembled. Its time is loading, apart from the ETA.
+    std::unique_ptr<BatchPilot> pilot;
+    if (!quiet && !rowShards && needsCostSchedule(specs, cmd.figure.bandRows)) {
+        progress.pause();
+        pilot = std::make_unique<BatchPilot>(
+            specs, cmd.figure.bandRows, cmd.threads, [&](const SceneSpec& spec) {
+                const std::vector<std::string> outputs =
+                    cmd.figure.outputPaths(outputBase(cmd, spec));
+                return cmd.skipExisting &&
+                       std::all_of(outputs.begin(), outputs.end(),
+                                   [](const std::string& p) { return fs::exists(p); });
+            });
+        pilot->profileFirst(volumes, assembled);
+        progress.setSchedule(&pilot->schedule());
+        progress.resume();
+    }
     for (size_t i = 0; i < specs.size(); ++i) {
         const SceneSpec& spec = specs[i];
         const std::string base = outputBase(cmd, spec);
@@ -402,7 +421,8 @@ void runRender(const RenderCommand& cmd, std::vector<RenderedImage>* rendered) {
             // and kept out of the render's ETA. An orbit's frames share one assembled scene,
             // turned to each frame's view (Scene::setView): rendering 1's structures took ~0.3 s
             // a frame to build again.
-            const bool sameOrbit = cmd.orbit > 0 && assembled &&
+            // The pilot's scene (batch_eta.h) is the first frame's: kept, not built again.
+            const bool sameOrbit = (cmd.orbit > 0 || i == 0) && assembled &&
                                    assembled->spec().path == spec.path &&
                                    assembled->spec().group == spec.group;
             if (sameOrbit) {
@@ -412,6 +432,7 @@ void runRender(const RenderCommand& cmd, std::vector<RenderedImage>* rendered) {
                 progress.pause();
                 cluster::everywhere(
                     [&] { assembled = std::make_unique<RenderScene>(spec, !quiet, &volumes); });
+                if (pilot) pilot->profile(i, *assembled);
                 progress.resume();
             }
             RenderScene* const scene = assembled.get();
