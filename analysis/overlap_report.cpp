@@ -4,10 +4,10 @@
 
 #include "core/error.h"
 #include "core/image_output.h"
-#include "core/image_text.h"
 #include "core/math.h"
 #include "core/spectrum.h"
 #include "core/temporary_file.h"
+#include "figure/image_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -194,26 +194,6 @@ std::string studyMarkdown(const std::vector<StudyRow>& rows) {
                " | " + (r.sameWorst ? "yes" : "no") + " |\n";
     }
     return out;
-}
-
-void writeTextFileAtomic(const std::string& path, const std::string& text) {
-    const std::string tmp = temporarySibling(path, false);
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        if (!out) throw Error("cannot write '" + path + "': cannot create a file in its folder");
-        out << text;
-        out.close();
-        if (!out) {
-            std::remove(tmp.c_str());
-            throw Error("cannot write '" + path + "': write failed");
-        }
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "': " + ec.message());
-    }
 }
 
 OverlapReportFiles writeOverlapReport(

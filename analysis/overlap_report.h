@@ -35,8 +35,7 @@ RgbImage lobeImage(const LatticeSet& lattices, int modelA, int modelB, double th
 // The convergence study as a Markdown table (one row per lattice size × samples per pixel).
 std::string studyMarkdown(const std::vector<StudyRow>& rows);
 
-// Writes text to `path` via a temporary sibling and rename; throws lobe::Error naming the path.
-void writeTextFileAtomic(const std::string& path, const std::string& text);
+// writeTextFileAtomic (text via a temporary sibling and rename): core/temporary_file.h.
 
 struct OverlapReportFiles {
     std::string csv, markdown, heatmap;

@@ -1,6 +1,6 @@
 #include "analysis/study_report.h"
 
-#include "core/image_text.h"
+#include "figure/image_text.h"
 
 #include <algorithm>
 #include <cmath>

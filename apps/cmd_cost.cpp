@@ -3,11 +3,12 @@
 // BRDF evaluations and the CPU time of shading them; with --models, the same scene rendered again
 // with each model on one object, side by side. Prints Markdown; --csv writes the same numbers as
 // one long table. Nothing else is written. docs/cost.md explains what each number measures.
+#include "analysis/cost_report.h"
 #include "analysis/overlap_report.h"
 #include "apps/commands.h"
-#include "apps/cost_report.h"
-#include "apps/scene_overrides.h"
+#include "apps/options.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
 #include "materials/registry.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
@@ -129,7 +130,7 @@ void registerCostCommand(CLI::App& app) {
         "shading) and per object its BRDF evaluations and their time; with --models, the "
         "same scene with each model on one object (docs/cost.md)");
     sub->add_option("scene", cmd.scene, "a scene file (docs/scene-format.md)")->required();
-    cmd.overrides.addOptions(*sub);
+    addOverrideOptions(*sub, cmd.overrides);
     sub->add_option("--models", cmd.models,
                     "comma list of models (lobe brdf list, default parameters) to render the "
                     "scene with, one after another, on --object");

@@ -4,10 +4,10 @@
 // keeps a first run short; --size 1024 --spp 8 gives the paper's settings.
 #include "apps/commands.h"
 #include "apps/data_dir.h"
-#include "apps/figure_output.h"
-#include "apps/output_folder.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "core/output_folder.h"
+#include "figure/figure_output.h"
 #include "render/gallery.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
@@ -57,7 +57,7 @@ void runDemo(const DemoCommand& cmd) {
     RenderStats stats;
     const Film film = scene.render(options, &stats);
     const std::string base = (fs::path(cmd.outDir) / "rendering-01").string();
-    // With the provenance `lobe render` records (apps/figure_output.h).
+    // With the provenance `lobe render` records (figure/figure_output.h).
     ImageWriteOptions write;
     write.attributes = provenance(spec);
     RgbImage rgb = filmToRgb(film, spec.exposure);

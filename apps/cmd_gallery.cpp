@@ -1,9 +1,9 @@
 // `lobe gallery` renders the BRDF gallery (the nine models on spheres).
 #include "apps/commands.h"
-#include "apps/figure_output.h"
-#include "apps/output_folder.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "core/output_folder.h"
+#include "figure/figure_output.h"
 #include "render/gallery.h"
 
 #include <CLI/CLI.hpp>

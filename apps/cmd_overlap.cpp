@@ -6,9 +6,10 @@
 #include "analysis/overlap_ranking.h"
 #include "analysis/overlap_report.h"
 #include "apps/commands.h"
-#include "apps/output_folder.h"
 #include "core/error.h"
+#include "core/output_folder.h"
 #include "core/progress.h"
+#include "core/temporary_file.h"
 #include "materials/registry.h"
 
 #include <CLI/CLI.hpp>

@@ -7,10 +7,11 @@
 #include "analysis/overlap_report.h"
 #include "analysis/scene_passes.h"
 #include "apps/commands.h"
-#include "apps/output_folder.h"
-#include "apps/scene_overrides.h"
+#include "apps/options.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "core/output_folder.h"
+#include "core/temporary_file.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
 
@@ -154,7 +155,7 @@ void registerSeparationCommand(CLI::App& app) {
         "(per-object passes; docs/separation.md)");
     sub->add_option("scenes", cmd.scenes, "scene files")->required();
     sub->add_option("--out", cmd.outDir, "output folder")->capture_default_str();
-    cmd.overrides.addOptions(*sub);
+    addOverrideOptions(*sub, cmd.overrides);
     sub->add_option("--metric", cmd.metric,
                     "weber: Weber-contrast highlights × visibility, veiling, identity; itp: "
                     "ΔE_ITP detection maps of each specular pass (BT.2124)")

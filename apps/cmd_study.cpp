@@ -6,12 +6,14 @@
 #include "analysis/study.h"
 #include "analysis/study_report.h"
 #include "apps/commands.h"
-#include "apps/figure_output.h"
-#include "apps/output_folder.h"
-#include "apps/study_page.h"
-#include "apps/study_server.h"
+#include "apps/options.h"
 #include "core/error.h"
 #include "core/image_output.h"
+#include "core/output_folder.h"
+#include "core/temporary_file.h"
+#include "figure/figure_output.h"
+#include "study/study_page.h"
+#include "study/study_server.h"
 
 #include <CLI/CLI.hpp>
 
@@ -166,7 +168,7 @@ void registerStudyCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--question", study.question, "the question of the pair trials")
         ->capture_default_str();
-    study.overrides.addOptions(*sub);
+    addOverrideOptions(*sub, study.overrides);
     sub->add_flag("--quiet", study.quiet, "no progress display");
     sub->footer(
         "Open DIR/index.html in a browser (answers are downloaded as a JSON file), or run "

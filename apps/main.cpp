@@ -1,7 +1,7 @@
 // `lobe`: the command line of the Lobe renderer. Errors in input (files, scenes, parameters) are
 // thrown once as lobe::Error and reported here as one line with a non-zero exit.
 #include "apps/commands.h"
-#include "core/cluster.h"
+#include "cluster/cluster.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/memory.h"

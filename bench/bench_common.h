@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace lobe::bench {
 
@@ -42,18 +43,36 @@ struct Stopwatch {
     double cpu() const { return cpuSeconds() - cpu0; }
 };
 
-// Relative RMSE of an image against a reference: the RMSE of the band values over all pixels
-// divided by the reference's mean band value (so it reads as a fraction of the image's level).
-inline double relativeRmse(const Film& image, const Film& reference) {
+// RMSE of the band values of an image against a reference over all pixels; with `relative`,
+// also that RMSE divided by the reference's mean band value (so it reads as a fraction of the
+// image's level; 0 for a black reference).
+inline double rmse(const std::vector<Spectrum>& image, const std::vector<Spectrum>& reference,
+                   double* relative = nullptr) {
     double se = 0.0, mean = 0.0;
-    const size_t n = reference.pixels().size();
+    const size_t n = reference.size();
     for (size_t i = 0; i < n; ++i)
-        for (int b = 0; b < 3; ++b) {
-            const double d = image.pixels()[i][b] - reference.pixels()[i][b];
+        for (int b = 0; b < kBandCount; ++b) {
+            const double d = image[i][b] - reference[i][b];
             se += d * d;
-            mean += reference.pixels()[i][b];
+            mean += reference[i][b];
         }
-    return mean > 0.0 ? std::sqrt(se / double(3 * n)) / (mean / double(3 * n)) : 0.0;
+    const double count = double(kBandCount) * double(n);
+    const double r = n ? std::sqrt(se / count) : 0.0;
+    if (relative) *relative = mean > 0.0 ? r / (mean / count) : 0.0;
+    return r;
+}
+// The same for one value per pixel.
+inline double rmse(const std::vector<double>& image, const std::vector<double>& reference) {
+    double se = 0.0;
+    for (size_t i = 0; i < reference.size(); ++i)
+        se += (image[i] - reference[i]) * (image[i] - reference[i]);
+    return reference.empty() ? 0.0 : std::sqrt(se / double(reference.size()));
+}
+// The relative RMSE of two films.
+inline double relativeRmse(const Film& image, const Film& reference) {
+    double relative = 0.0;
+    rmse(image.pixels(), reference.pixels(), &relative);
+    return relative;
 }
 
 // `--name value` options: for (int i = 1; i < argc; ++i) { Args a(argc, argv, i); … }.

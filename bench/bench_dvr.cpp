@@ -25,8 +25,8 @@
 #include "bench/bench_common.h"
 #include "core/camera.h"
 #include "core/error.h"
+#include "core/pixel_loop.h"
 #include "core/rng.h"
-#include "core/tile_scheduler.h"
 #include "render/compositor.h"
 #include "render/shading.h"
 #include "volume/volume.h"
@@ -34,8 +34,8 @@
 
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 #include <zlib.h>
 
 #include <array>
@@ -46,6 +46,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -102,26 +103,31 @@ Image render(double step, bool skip, bool preIntegrated = false) {
     const DvrVolume vol(sc.grid, TransferFunction::densityMaps(), set, "FieldMap grey");
     Image img;
     img.pixels.assign(size_t(kSize) * kSize, Spectrum(0.0));
-    std::atomic<long long> evaluated{0}, skipped{0};
+    // One marcher per thread; the one pixel loop (core/pixel_loop.h), 1 sample per pixel.
+    tbb::enumerable_thread_specific<std::unique_ptr<VolumeRaySampler>> samplers;
+    SchedulerOptions scheduler;
+    scheduler.progress = false;
     const auto t0 = std::chrono::steady_clock::now();
-    tbb::parallel_for(0, kSize, [&](int y) {
-        setFlushToZero();
-        VolumeRaySampler sampler(vol);
-        for (int x = 0; x < kSize; ++x) {
-            Rng rng = pixelSampleRng(1, x, y, 0);
-            const double u = (x + rng.uniform()) / kSize, v = (y + rng.uniform()) / kSize;
-            const Ray ray = sc.camera.generateRay(u, v);
+    forEachPixel(kSize, kSize, PixelSampling{1, 1}, scheduler, [&](const PixelSamples& px) {
+        std::unique_ptr<VolumeRaySampler>& sampler = samplers.local();
+        if (!sampler) sampler = std::make_unique<VolumeRaySampler>(vol);
+        img.pixels[size_t(px.y()) * kSize + size_t(px.x())] = px.mean([&](const Vec2& j, Rng& rng) {
+            const Ray ray = sc.camera.generateRay((px.x() + j.x) / kSize, (px.y() + j.y) / kSize);
             FrontToBackCompositor comp;
-            if (sampler.begin(ray, rng.uniform()))
-                sampler.marchSegment(ray.tMax, [&](const VolumeSample& s) {
+            if (sampler->begin(ray, rng.uniform()))
+                sampler->marchSegment(ray.tMax, [&](const VolumeSample& s) {
                     comp.add(s.alpha, shadeVolumeSample(sc.material, s, -ray.d, sc.lights));
                     return !comp.terminated();
                 });
-            img.pixels[size_t(y) * kSize + x] = comp.radiance;
-        }
-        evaluated += sampler.samplesEvaluated();
-        skipped += sampler.samplesSkipped();
+            return comp.radiance;
+        });
     });
+    long long evaluated = 0, skipped = 0;
+    for (const auto& sampler : samplers) {
+        if (!sampler) continue;
+        evaluated += sampler->samplesEvaluated();
+        skipped += sampler->samplesSkipped();
+    }
     img.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     img.evaluated = evaluated;
     img.skipped = skipped;
@@ -169,20 +175,6 @@ const Image& reference() {
     return ref;
 }
 
-double rmse(const Image& a, const Image& b, double* relative) {
-    double s = 0, mean = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i)
-        for (int k = 0; k < kBandCount; ++k) {
-            const double d = a.pixels[i][k] - b.pixels[i][k];
-            s += d * d;
-            mean += b.pixels[i][k];
-        }
-    const double n = double(a.pixels.size()) * kBandCount;
-    const double r = std::sqrt(s / n);
-    if (relative) *relative = r / (mean / n);
-    return r;
-}
-
 void benchDvr(benchmark::State& state) {
     const double step = state.range(0) / 100.0;
     const bool skip = state.range(1) != 0;
@@ -205,7 +197,7 @@ void benchDvr(benchmark::State& state) {
             skipDiff = std::max(skipDiff, std::abs(img.pixels[i][k] - other.pixels[i][k]));
     if (skipDiff > (pre ? 1e-9 : 1e-12)) state.SkipWithError("skipping changed the image");
     double rel = 0;
-    state.counters["rmse"] = rmse(img, ref, &rel);
+    state.counters["rmse"] = bench::rmse(img.pixels, ref.pixels, &rel);
     state.counters["relRmse"] = rel;
     state.counters["skipDiff"] = skipDiff;
     state.counters["evaluated"] = double(img.evaluated);

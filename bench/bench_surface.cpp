@@ -27,10 +27,11 @@
 // --terraces runs the terrace study instead (below, "The skull without terraces").
 //
 // Usage: lobe_bench_surface [--size N] [--no-upsampled] [--terraces]
+#include "bench/bench_common.h"
 #include "core/camera.h"
 #include "core/error.h"
+#include "core/pixel_loop.h"
 #include "core/rng.h"
-#include "core/tile_scheduler.h"
 #include "surface/iso_exact.h"
 #include "surface/iso_levelset.h"
 #include "surface/iso_mesh.h"
@@ -86,32 +87,23 @@ Image render(const SurfaceScene& scene, int strata) {
     Image img;
     img.pixels.assign(std::size_t(gSize) * gSize, 0.0);
     const auto t0 = std::chrono::steady_clock::now();
-    tbb::parallel_for(0, gSize, [&](int y) {
-        setFlushToZero();
-        for (int x = 0; x < gSize; ++x) {
+    // The one pixel loop (core/pixel_loop.h): strata² stratified samples per pixel, seed 7.
+    SchedulerOptions scheduler;
+    scheduler.progress = false;
+    forEachPixel(
+        gSize, gSize, PixelSampling{strata * strata, 7}, scheduler, [&](const PixelSamples& px) {
             double sum = 0.0;
-            for (int s = 0; s < strata * strata; ++s) {
-                Rng rng = pixelSampleRng(7, x, y, s);
-                const double jx = (s % strata + rng.uniform()) / strata;
-                const double jy = (s / strata + rng.uniform()) / strata;
-                const Ray ray = cam.generateRay((x + jx) / gSize, (y + jy) / gSize);
+            px.forEach([&](const Vec2& j, Rng&) {
+                const Ray ray = cam.generateRay((px.x() + j.x) / gSize, (px.y() + j.y) / gSize);
                 if (const auto hit = scene.intersect(ray)) sum += std::abs(hit->normal.dot(ray.d));
-            }
-            img.pixels[std::size_t(y) * gSize + x] = sum / (strata * strata);
-        }
-    });
+            });
+            img.pixels[std::size_t(px.y()) * gSize + std::size_t(px.x())] = sum / px.count();
+        });
     img.seconds = seconds(t0);
     img.rays = (long long)gSize * gSize * strata * strata;
     for (double p : img.pixels)
         if (!std::isfinite(p)) throw Error("an image is not finite");
     return img;
-}
-
-double rmse(const Image& a, const Image& b) {
-    double s = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i)
-        s += (a.pixels[i] - b.pixels[i]) * (a.pixels[i] - b.pixels[i]);
-    return std::sqrt(s / double(a.pixels.size()));
 }
 
 // First-hit distances through the pixel centres (NaN for a miss).
@@ -231,7 +223,7 @@ void measure(const char* label, const openvdb::FloatGrid& grid, double voxel) {
         for (int k = 0; k < 3; ++k) {
             const int strata = 1 << k;
             const Image img = render(*scenes[i], strata);
-            rm[k] = rmse(img, reference);
+            rm[k] = bench::rmse(img.pixels, reference.pixels);
             ms[k] = img.seconds * 1e3;
             if (strata == 2) mrays = img.rays * 1e-6 / img.seconds;
         }

@@ -5,13 +5,13 @@
 //       renders the scene (a width other than the scene's keeps its aspect) and writes one line
 //       per tile: x0, y0, x1, y1 and the seconds the worker spent on it;
 //   mpirun -n 2 lobe_bench_tiles --message-cost [--tiles N]
-//       hands out N tiles through the cluster's tile source (core/cluster.h) twice and prints
+//       hands out N tiles through the cluster's tile source (cluster/cluster.h) twice and prints
 //       what a tile costs rank 1 beyond its work: with 1 ms of busy work per tile on both ranks
 //       (the wait a render sees), and with none on rank 1 (the whole round trip to rank 0,
 //       its polling included); then the time of one request and its answer between two
 //       spinning processes (MPI_Send + MPI_Recv both ways): what rank 0 spends on a request.
 #include "bench/bench_common.h"
-#include "core/cluster.h"
+#include "cluster/cluster.h"
 #include "core/progress.h"
 #include "core/tile_scheduler.h"
 #include "render/render_scene.h"

@@ -27,7 +27,7 @@ foreach(prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
   endif()
 endforeach()
 
-# Captions are drawn with FreeType (core/image_text.cpp; Debian libfreetype-dev): OpenImageIO's
+# Captions are drawn with FreeType (figure/image_text.cpp; Debian libfreetype-dev): OpenImageIO's
 # render_text garbles every non-ASCII character.
 find_package(Freetype REQUIRED)
 
@@ -40,7 +40,7 @@ if(LOBE_BUILD_BENCHMARKS)
 endif()
 
 # Open MPI (Debian libopenmpi-dev) is optional: found → `lobe render` shares tiles across the
-# processes of an mpirun (core/cluster.h); absent → lobe works as a single process.
+# processes of an mpirun (cluster/cluster.h); absent → lobe works as a single process.
 option(LOBE_WITH_MPI "Build MPI support when an MPI library is found" ON)
 if(LOBE_WITH_MPI)
   set(MPI_CXX_SKIP_MPICXX ON)  # the C API only; no C++ bindings

@@ -1,6 +1,6 @@
 # cmake -DINPUT=FILE -DOUTPUT=FILE.cpp -DNAME=SYMBOL -P embed_text.cmake: writes a C++ source
 # defining `const char lobe::SYMBOL[]` as FILE's text (a raw string literal), so a text resource
-# (the study page template, apps/study_page.html) is compiled into the program.
+# (the study page template, study/study_page.html) is compiled into the program.
 file(READ "${INPUT}" text)
 string(FIND "${text}" ")lobe_embed\"" clash)
 if(NOT clash EQUAL -1)

@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace lobe {
 
@@ -22,6 +25,76 @@ std::string formatDuration(double seconds) {
         std::snprintf(buf, sizeof buf, "%d h %02d min", m / 60, m % 60);
     }
     return buf;
+}
+
+namespace {
+double validCost(double cost) { return std::isfinite(cost) && cost > 0.0 ? cost : 0.0; }
+}  // namespace
+
+int CostSchedule::addPart(int64_t units, double predictedCost) {
+    if (units <= 0) return -1;
+    ends_.push_back(totalUnits() + units);
+    costs_.push_back(validCost(predictedCost));
+    weights_.push_back(0.0);
+    price();
+    return int(ends_.size()) - 1;
+}
+
+int CostSchedule::addUnknownPart(int64_t units, double weight) {
+    if (units <= 0) return -1;
+    ends_.push_back(totalUnits() + units);
+    costs_.push_back(std::numeric_limits<double>::quiet_NaN());
+    weights_.push_back(validCost(weight));
+    price();
+    return int(ends_.size()) - 1;
+}
+
+void CostSchedule::setCost(int index, double predictedCost) {
+    if (index < 0 || size_t(index) >= costs_.size()) return;
+    costs_[size_t(index)] = validCost(predictedCost);
+    price();
+}
+
+void CostSchedule::price() {
+    // The measured parts that have a weight give the cost per weight; an unknown part costs its
+    // weight at that rate (before any is measured, its weight: only the ratios matter then).
+    double knownCost = 0.0, knownWeight = 0.0;
+    for (size_t k = 0; k < ends_.size(); ++k)
+        if (!std::isnan(costs_[k]) && weights_[k] > 0.0) {
+            knownCost += costs_[k];
+            knownWeight += weights_[k];
+        }
+    const double rate = knownWeight > 0.0 ? knownCost / knownWeight : 1.0;
+    priced_.assign(ends_.size(), 0.0);
+    cumulative_.assign(ends_.size(), 0.0);
+    double sum = 0.0;
+    for (size_t k = 0; k < ends_.size(); ++k) {
+        priced_[k] = std::isnan(costs_[k]) ? rate * weights_[k] : costs_[k];
+        sum += priced_[k];
+        cumulative_[k] = sum;
+    }
+}
+
+double CostSchedule::costDone(int64_t unitsDone) const {
+    if (ends_.empty() || unitsDone <= 0) return 0.0;
+    if (unitsDone >= ends_.back()) return cumulative_.back();
+    // The part under way: the first whose end lies beyond the units done.
+    const size_t k =
+        size_t(std::upper_bound(ends_.begin(), ends_.end(), unitsDone) - ends_.begin());
+    const int64_t begin = k == 0 ? 0 : ends_[k - 1];
+    const double before = k == 0 ? 0.0 : cumulative_[k - 1];
+    return before + priced_[k] * double(unitsDone - begin) / double(ends_[k] - begin);
+}
+
+double CostSchedule::fractionDone(int64_t unitsDone) const {
+    if (ends_.empty()) return 0.0;
+    if (!(totalCost() > 0.0)) return std::clamp(double(unitsDone) / double(totalUnits()), 0.0, 1.0);
+    return std::clamp(costDone(unitsDone) / totalCost(), 0.0, 1.0);
+}
+
+double remainingSeconds(double elapsed, double fraction) {
+    if (!(fraction > 0.0)) return std::numeric_limits<double>::infinity();
+    return elapsed * (1.0 - std::min(fraction, 1.0)) / fraction;
 }
 
 ProgressReporter::ProgressReporter(std::string label, int64_t totalUnits, bool enabled)
@@ -55,6 +128,16 @@ void ProgressReporter::resume() {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - pausedAt_).count();
 }
 
+void ProgressReporter::setSchedule(const CostSchedule* schedule) {
+    schedule_ = schedule && !schedule->empty() ? schedule : nullptr;
+}
+
+double ProgressReporter::fractionAt(int64_t done) const {
+    return schedule_ ? schedule_->fractionDone(done) : std::min(1.0, double(done) / double(total_));
+}
+
+double ProgressReporter::fractionDone() const { return fractionAt(done_.load()); }
+
 void ProgressReporter::advance(int64_t units) {
     const int64_t done = done_.fetch_add(units) + units;
     if (!enabled_) return;
@@ -64,7 +147,7 @@ void ProgressReporter::advance(int64_t units) {
     std::unique_lock<std::mutex> lock(printMutex_, std::try_to_lock);
     if (!lock.owns_lock() || finished_) return;
     const double sinceLast = std::chrono::duration<double>(now - lastPrint_).count();
-    const int decile = static_cast<int>(10 * done / total_);
+    const int decile = static_cast<int>(10.0 * fractionAt(done));
     const bool due = terminal_ ? sinceLast >= 0.1 : (decile > lastDecile_ || sinceLast >= 10.0);
     if (!due) return;
     // A log line is worth its space after a second: a phase that ends sooner (loading a scene of
@@ -83,7 +166,7 @@ void ProgressReporter::finish() {
 }
 
 void ProgressReporter::print(int64_t done, bool final) {
-    const double fraction = std::min(1.0, double(done) / double(total_));
+    const double fraction = fractionAt(done);
     const double elapsed = elapsedSeconds();
     std::string tail;
     if (final) {
@@ -96,7 +179,7 @@ void ProgressReporter::print(int64_t done, bool final) {
         if (paused > 0.0) tail += " (+ " + formatDuration(paused) + " loading)";
     } else if (fraction > 0.0) {
         tail = formatDuration(elapsed) + " elapsed, ETA " +
-               formatDuration(elapsed * (1.0 - fraction) / fraction);
+               formatDuration(remainingSeconds(elapsed, fraction));
     }
     if (terminal_) {
         constexpr int kWidth = 30;

@@ -76,4 +76,37 @@ double srgbEncode(double linear) {
     return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
+double srgbDecode(double encoded) {
+    return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
+}
+
+Spectrum linearSrgbToBandsUnclamped(double r, double g, double b) {
+    // bandsToLinearSrgb is linear (a 3×3 matrix, above); recover its columns from the
+    // unit band triples and invert once.
+    static const M33d kInverse = [] {
+        M33d m;
+        for (int j = 0; j < 3; ++j) {
+            Spectrum unit(0.0);
+            unit[j] = 1.0;
+            const std::array<double, 3> c = bandsToLinearSrgb(unit);
+            for (int i = 0; i < 3; ++i) m[i][j] = c[i];
+        }
+        return m.inverse();
+    }();
+    Spectrum out;
+    const double rgb[3] = {r, g, b};
+    for (int i = 0; i < 3; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < 3; ++j) v += kInverse[i][j] * rgb[j];
+        out[i] = v;
+    }
+    return out;
+}
+
+Spectrum linearSrgbToBands(double r, double g, double b) {
+    Spectrum out = linearSrgbToBandsUnclamped(r, g, b);
+    for (int i = 0; i < 3; ++i) out[i] = std::max(0.0, out[i]);
+    return out;
+}
+
 }  // namespace lobe

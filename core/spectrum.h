@@ -62,7 +62,17 @@ std::array<double, 3> xyzToLinearSrgb(const std::array<double, 3>& xyz);
 // Both steps at once: the conversion every image uses.
 std::array<double, 3> bandsToLinearSrgb(const Spectrum& bands);
 
+// Inverse of bandsToLinearSrgb, each band clamped to ≥ 0: sRGB colour names and label colours
+// (transfer functions, segmentations) to bands. sRGB colours outside the CIE RGB gamut (pure
+// blue) lose their negative band.
+Spectrum linearSrgbToBands(double r, double g, double b);
+// The same without the clamp: a colour outside the CIE RGB gamut keeps negative bands, so that
+// it displays exactly (a solid image background, render/background.cpp).
+Spectrum linearSrgbToBandsUnclamped(double r, double g, double b);
+
 // sRGB transfer function (IEC 61966-2-1) of a linear value clamped to [0, 1].
 double srgbEncode(double linear);
+// Its inverse (IEC 61966-2-1): the linear value of an encoded value in [0, 1].
+double srgbDecode(double encoded);
 
 }  // namespace lobe

@@ -1,11 +1,15 @@
 #include "core/temporary_file.h"
 
+#include "core/error.h"
+#include "core/interrupt.h"
+
 #include <unistd.h>
 
 #include <cerrno>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -120,6 +124,39 @@ int reclaimDeadTemporaries(const std::string& folder) {
                      who.c_str(), foreignNames.front().c_str());
     }
     return removed;
+}
+
+bool writeTextFileAtomic(const std::string& path, const std::string& text, bool noReplace) {
+    const std::string temporary = temporarySibling(path, false);
+    RemovedOnInterrupt guard(temporary);
+    {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        if (!out) throw Error("cannot write '" + path + "': cannot create a file in its folder");
+        out << text;
+        out.flush();
+        if (!out) {
+            std::error_code ec;
+            fs::remove(temporary, ec);
+            throw Error("cannot write '" + path + "': write failed");
+        }
+    }
+    if (noReplace) {
+        // link(2) fails with EEXIST rather than replace a file: no answers are overwritten.
+        const int linked = ::link(temporary.c_str(), path.c_str());
+        const int error = errno;
+        std::error_code ec;
+        fs::remove(temporary, ec);
+        if (linked == 0) return true;
+        if (error == EEXIST) return false;
+        throw Error("cannot write '" + path + "': " + std::strerror(error));
+    }
+    std::error_code ec;
+    fs::rename(temporary, path, ec);
+    if (ec) {
+        fs::remove(temporary, ec);
+        throw Error("cannot write '" + path + "': " + ec.message());
+    }
+    return true;
 }
 
 }  // namespace lobe

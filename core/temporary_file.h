@@ -23,4 +23,10 @@ std::string temporarySibling(const std::string& path, bool keepExtension = true)
 // Returns the number removed. Quiet when there are none.
 int reclaimDeadTemporaries(const std::string& folder);
 
+// Writes `text` to `path` completely under a temporary sibling (removed on SIGINT/SIGTERM or
+// error), then puts it in place: renamed over any old file, or with `noReplace` linked to `path`
+// only if no file of that name exists (returns false then, and nothing is written). Reports,
+// scene files, the study's pages and answers. Throws lobe::Error naming the path on failure.
+bool writeTextFileAtomic(const std::string& path, const std::string& text, bool noReplace = false);
+
 }  // namespace lobe

@@ -19,7 +19,7 @@ struct Tile {
 
 // Where the tiles of one image come from. Every worker thread asks for its next tile until there
 // is none left; the default source counts through the image's tiles in this process. The cluster
-// source (core/cluster.h) shares them with the other processes of an mpirun.
+// source (cluster/cluster.h) shares them with the other processes of an mpirun.
 class TileSource {
 public:
     virtual ~TileSource() = default;
@@ -43,7 +43,7 @@ public:
 // 2.1: the sample mean is unbiased), so elapsed · (1 − f)/f with f the fraction done is an
 // honest ETA. Pixels depend only on their coordinates and the seed (core/pixel_loop.h), so the
 // order changes no pixel. Fisher–Yates shuffle (Knuth, TAOCP vol. 2, 3rd ed., §3.4.2,
-// Algorithm P) driven by core/rng.h with a fixed seed. The cluster's source (core/cluster.cpp)
+// Algorithm P) driven by core/rng.h with a fixed seed. The cluster's source (cluster/cluster.cpp)
 // keeps row order (see there).
 std::vector<int> tileOrder(int count, bool shuffled = true);
 

@@ -503,7 +503,7 @@ py::dict render(const PyScene& scene, const RenderArgs& args, const std::vector<
     Film film(1, 1);
     AovImage aovs;
     renderFilm(scene, spec, request, args, progress, film, aovs);
-    // The floats `lobe render` writes to the EXR (apps/figure_output.cpp, FigureWriter::write).
+    // The floats `lobe render` writes to the EXR (figure/figure_output.cpp, FigureWriter::write).
     std::vector<std::string> names;
     for (const ObjectSpec& o : spec.objects) names.push_back(o.name);
     ImageChannels extra;

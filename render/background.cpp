@@ -2,20 +2,13 @@
 
 #include "core/error.h"
 #include "core/film.h"
-#include "volume/transfer_function.h"
+#include "core/spectrum.h"
 
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 
 namespace lobe {
-namespace {
-
-double srgbDecode(double v) {
-    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
-
-}  // namespace
 
 Background parseBackground(const std::string& text, const std::string& where) {
     Background b;

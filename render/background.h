@@ -41,7 +41,7 @@ Background backgroundFromColour(const std::array<double, 3>& srgb, const std::st
 
 // Film += (1 − alpha) · colour (the background's linear sRGB in bands, divided by the exposure so
 // the display shows it as given), alpha the coverage per pixel. Nothing for other backgrounds.
-// What every rendered image gets before it is written (apps/figure_output.h) or returned (the
+// What every rendered image gets before it is written (figure/figure_output.h) or returned (the
 // Python module).
 class Film;
 void compositeBackground(Film& film, const std::vector<float>& alpha, const Background& background,

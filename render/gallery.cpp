@@ -2,8 +2,8 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "core/image_text.h"
 #include "core/pixel_loop.h"
+#include "figure/image_text.h"
 #include "materials/registry.h"
 #include "render/shading.h"
 

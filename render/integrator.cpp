@@ -19,6 +19,23 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // At most this many surfaces are composited along one ray: a guard against pathological
 // geometry, far above what a head (skin, two skull walls, …) produces.
 constexpr int kMaxSurfaceHits = 64;
+
+// Shades a point (render/shading.h); under `lobe cost` (cost non-null) also counts the object's
+// BRDF evaluations and shaded points and adds the shading time to the object and to `part`
+// (the volume or surface shading seconds). The radiance is the same either way, bit for bit.
+Spectrum shadeCounted(const ShadingPoint& point, const Vec3& toViewer,
+                      const std::vector<PointLight>& lights, CostCounters* cost, int objectIndex,
+                      double CostCounters::*part) {
+    if (!cost) return shade(point, toViewer, lights);
+    ObjectCost& oc = cost->objects[size_t(objectIndex)];
+    const double t0 = steadySeconds();
+    const Spectrum L = shade(point, toViewer, lights, oc.brdfEvaluations);
+    const double dt = steadySeconds() - t0;
+    cost->*part += dt;
+    oc.shadingSeconds += dt;
+    ++oc.shadedPoints;
+    return L;
+}
 }  // namespace
 
 RenderStats& RenderStats::operator+=(const RenderStats& o) {
@@ -227,17 +244,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                     point.frame =
                         Frame::fromNormalAndAxis(s.normal, vo.tangent.axis, vo.tangent.fallback);
                 point.shadow = shadowsAt(s.position, true, rng, st);
-                if (!cost) {
-                    L = lobe::shade(point, toViewer, spec.lights);
-                } else {
-                    ObjectCost& oc = cost->objects[size_t(vo.objectIndex)];
-                    const double t0 = steadySeconds();
-                    L = lobe::shade(point, toViewer, spec.lights, oc.brdfEvaluations);
-                    const double dt = steadySeconds() - t0;
-                    cost->volumeShadingSeconds += dt;
-                    oc.shadingSeconds += dt;
-                    ++oc.shadedPoints;
-                }
+                L = shadeCounted(point, toViewer, spec.lights, cost, vo.objectIndex,
+                                 &CostCounters::volumeShadingSeconds);
                 const double scale = weight < w0 ? w0 / weight : 1.0;
                 if (weight < w0) L *= scale;
                 ++stats.volumeShaded;
@@ -303,18 +311,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                                           : hit->normal;
         point.frame = Frame::fromNormalAndAxis(normal, so.tangent.axis, so.tangent.fallback);
         point.shadow = shadowsAt(hit->position, false, rng, st);
-        Spectrum L;
-        if (!cost) {
-            L = shade(point, toViewer, spec.lights);
-        } else {
-            ObjectCost& oc = cost->objects[size_t(so.objectIndex)];
-            const double t0 = steadySeconds();
-            L = shade(point, toViewer, spec.lights, oc.brdfEvaluations);
-            const double dt = steadySeconds() - t0;
-            cost->surfaceShadingSeconds += dt;
-            oc.shadingSeconds += dt;
-            ++oc.shadedPoints;
-        }
+        const Spectrum L = shadeCounted(point, toViewer, spec.lights, cost, so.objectIndex,
+                                        &CostCounters::surfaceShadingSeconds);
         if (sink)
             sink->onEvent({so.objectIndex, hit->t, so.spec->opacity, out.transmittance,
                            out.transmittance * so.spec->opacity, &point, L});

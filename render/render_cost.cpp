@@ -84,6 +84,12 @@ long long RenderCost::brdfEvaluations() const {
     return n;
 }
 
+double threadCpuSeconds() {
+    timespec ts{};
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return steadySeconds();
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 double steadySeconds() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
         .count();

@@ -79,5 +79,8 @@ struct RenderCost {
 
 // Seconds of a monotonic clock (steady_clock).
 double steadySeconds();
+// CPU seconds of the calling thread (CLOCK_THREAD_CPUTIME_ID): not advanced while the thread
+// waits or is pre-empted. The cost pilot's clock (RenderScene::costProfile).
+double threadCpuSeconds();
 
 }  // namespace lobe

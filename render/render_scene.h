@@ -11,6 +11,7 @@
 #include "render/scene.h"
 
 #include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -24,10 +25,10 @@ struct RenderOptions {
     ProgressReporter* sharedProgress = nullptr;  // see core/tile_scheduler.h
     int rowBegin = 0, rowEnd = -1;               // render only these rows (a shard; others 0)
     // With rows given: the film (and the passes) hold only rows [rowBegin, rowEnd), its row 0
-    // being image row rowBegin — one band of a poster (apps/figure_output.h), whose memory is
+    // being image row rowBegin — one band of a poster (figure/figure_output.h), whose memory is
     // the band's, not the image's. The pixels are the same as in the whole image.
     bool bandOnly = false;
-    TileSource* tileSource = nullptr;  // tiles shared with other processes (core/cluster.h)
+    TileSource* tileSource = nullptr;  // tiles shared with other processes (cluster/cluster.h)
     // When set, the render also counts BRDF evaluations per object and times its parts into
     // *cost (render/render_cost.h); the image is the same with or without.
     RenderCost* cost = nullptr;
@@ -58,6 +59,13 @@ public:
     // The value render() gives pixel (x, y). For benchmarks that compare a subset of pixels
     // against a reference.
     Spectrum renderPixel(int x, int y) const;
+    // A pilot of the render's cost, for an honest progress display (core/progress.h,
+    // CostSchedule): one sample traced through every `stride`-th pixel of every `stride`-th row
+    // (from stride/2), each such row timed by its thread's CPU clock (threadCpuSeconds,
+    // render/render_cost.h) and scaled to the stride² pixels and the samples per pixel it stands
+    // for. Returns the estimated CPU seconds of each image row (0 for the rows between). The
+    // image and every later render are unaffected.
+    std::vector<double> costProfile(int stride, int threads = 0) const;
 
 private:
     Scene scene_;

@@ -1,7 +1,7 @@
 #include "render/scene_labels.h"
 
 #include "core/error.h"
-#include "volume/transfer_function.h"
+#include "core/spectrum.h"
 
 #include <algorithm>
 #include <cctype>
@@ -19,11 +19,6 @@ std::string joinInts(const std::vector<int>& v) {
     std::string s;
     for (int x : v) s += (s.empty() ? "" : ", ") + std::to_string(x);
     return s;
-}
-
-// IEC 61966-2-1 (sRGB) decoding of an encoded value in [0, 1].
-double srgbDecode(double v) {
-    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
 }
 
 // A scene table's colour: "#rrggbb" or [r, g, b] in [0, 1], sRGB-encoded → bytes.

@@ -1,10 +1,14 @@
 // Overrides of a scene's image and sampling settings — what `lobe render --width/--height/--spp/
 // --step/--seed/--roulette/--preview/--pre-integrated` and the Python module's
-// Scene.render(width=, …) change — and how they apply (a width alone keeps the aspect). The
-// command-line options are added in apps/scene_overrides.h.
+// Scene.render(width=, …) change — and how they apply (a width alone keeps the aspect); the
+// command line adds clipping and shadows (SceneOverrides). The options themselves are added in
+// apps/options.h.
 #pragma once
 
 #include "render/scene_description.h"
+
+#include <string>
+#include <vector>
 
 namespace lobe {
 
@@ -17,6 +21,19 @@ struct RenderOverrides {
     bool preIntegrated = false;  // --pre-integrated: on for every scene
 
     // Throws lobe::Error for a value out of range, naming the setting.
+    void validate() const;
+    void apply(SceneSpec& spec) const;
+};
+
+// What `lobe render`, `separation`, `assign`, `cost` and `study` override: the above, then
+// clipping and shadows.
+struct SceneOverrides : RenderOverrides {
+    // --clip plane:x,y,z,nx,ny,nz | box:x0,y0,z0,x1,y1,z1 [:invert] [:cap], repeatable: replaces
+    // every scene's top-level clip shapes (core/clip.h).
+    std::vector<std::string> clip;
+    std::string shadows;  // --shadows off|exact|cached: "" keeps the scenes'
+
+    // RenderOverrides' checks and changes, then those of --clip and --shadows.
     void validate() const;
     void apply(SceneSpec& spec) const;
 };

@@ -12,7 +12,7 @@ and its answer between two spinning processes).
 Each rank is one worker. Two ways to share an image's tiles are compared:
 - static: rank i renders the rows [floor(i·H/P), floor((i+1)·H/P)) — what `--shard i/P` does;
   a tile's cost is spread evenly over its rows;
-- dynamic: what `mpirun lobe render` does (core/cluster.h). Tiles go out in row order. Rank 0's
+- dynamic: what `mpirun lobe render` does (cluster/cluster.h). Tiles go out in row order. Rank 0's
   own worker takes its next tile when it finishes one, at no cost; a worker of another rank asks
   for its next tile as it starts one, and the answer comes L later. Rank 0 answers one request at
   a time, S each: the requests queue when they come faster than 1/S.

@@ -2,42 +2,11 @@
 
 #include "core/error.h"
 
-#include <Imath/ImathMatrix.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace lobe {
-
-Spectrum linearSrgbToBandsUnclamped(double r, double g, double b) {
-    // bandsToLinearSrgb is linear (a 3×3 matrix, core/spectrum.cpp); recover its columns from the
-    // unit band triples and invert once.
-    static const Imath::M33d kInverse = [] {
-        Imath::M33d m;
-        for (int j = 0; j < 3; ++j) {
-            Spectrum unit(0.0);
-            unit[j] = 1.0;
-            const std::array<double, 3> c = bandsToLinearSrgb(unit);
-            for (int i = 0; i < 3; ++i) m[i][j] = c[i];
-        }
-        return m.inverse();
-    }();
-    Spectrum out;
-    const double rgb[3] = {r, g, b};
-    for (int i = 0; i < 3; ++i) {
-        double v = 0.0;
-        for (int j = 0; j < 3; ++j) v += kInverse[i][j] * rgb[j];
-        out[i] = v;
-    }
-    return out;
-}
-
-Spectrum linearSrgbToBands(double r, double g, double b) {
-    Spectrum out = linearSrgbToBandsUnclamped(r, g, b);
-    for (int i = 0; i < 3; ++i) out[i] = std::max(0.0, out[i]);
-    return out;
-}
 
 double correctOpacity(double alphaVoxel, double stepInVoxels) {
     // Equation (1) of the header. alphaVoxel < 1 is guaranteed by the constructor; log1p keeps

@@ -22,7 +22,7 @@
 // radiance. An empty transfer function is transparent everywhere.
 //
 // Colour: our bands are the CIE RGB primaries, so an sRGB colour name such as "blue" must be
-// converted; linearSrgbToBands() inverts core/spectrum.h's bandsToLinearSrgb and clamps at 0
+// converted with linearSrgbToBands() (core/spectrum.h), which clamps at 0
 // (sRGB colours outside the CIE RGB gamut lose their negative band).
 #pragma once
 
@@ -39,12 +39,6 @@ struct TfPoint {
     double opacity = 0.0;  // per voxel length, [0, 1)
     Spectrum colour{1.0};
 };
-
-// Inverse of bandsToLinearSrgb (core/spectrum.h), each band clamped to ≥ 0.
-Spectrum linearSrgbToBands(double r, double g, double b);
-// The same without the clamp: a colour outside the CIE RGB gamut keeps negative bands, so that
-// it displays exactly (a solid image background, apps/figure_output.cpp).
-Spectrum linearSrgbToBandsUnclamped(double r, double g, double b);
 
 // Equation (1): opacity of a step of `stepInVoxels` reference voxel lengths.
 double correctOpacity(double alphaVoxel, double stepInVoxels);

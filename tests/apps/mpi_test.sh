@@ -3,7 +3,7 @@
 # channel and PNG (idiff with no tolerance; the files differ in OpenImageIO's DateTime and in the
 # command line of their provenance), contact sheets included, for 2 processes × all threads and
 # 3 processes × 1 thread. A rank that fails ends the run with its message and no output; bad input
-# is one message. The same in bands of rows (--band-rows, apps/figure_output.h).
+# is one message. The same in bands of rows (--band-rows, figure/figure_output.h).
 # Usage: mpi_test.sh LOBE MPIRUN SOURCE_DIR WORK_DIR
 set -euo pipefail
 lobe=$1 mpirun_bin=$2 src=$3 work=$4
@@ -26,7 +26,7 @@ for run in n2 n3 n2-bands; do
     name=$(basename "$f")
     [[ -f "$run/$name" ]] || fail "$run/$name missing"
     case "$name" in
-      # Images by pixels: their provenance (apps/figure_output.h) names their own command
+      # Images by pixels: their provenance (figure/figure_output.h) names their own command
       # lines, contact sheets' too; anything else byte for byte.
       *.exr|*.png) idiff -a -fail 0 -failpercent 0 -warn 0 "$f" "$run/$name" >/dev/null ||
                fail "$run/$name: pixels differ from the single-process render" ;;

@@ -1,4 +1,4 @@
-"""`lobe study serve` (apps/study_server.h): binds to loopback only unless --allow-remote; serves
+"""`lobe study serve` (study/study_server.h): binds to loopback only unless --allow-remote; serves
 the page and its stimuli and nothing else; refuses '..' paths and posts from other origins;
 stores each participant's answers without overwriting. All traffic stays on 127.0.0.1.
 

@@ -192,7 +192,7 @@ TEST(Cli, DemoTinyWritesBothImages) {
     EXPECT_EQ(r.exitCode, 0) << r.err;
     for (const char* f : {"rendering-01.png", "rendering-01.exr", "gallery.png", "gallery.exr"}) {
         EXPECT_GT(fs::file_size(d / f), 0u) << f;
-        // The provenance `lobe render` records (apps/figure_output.h), here too.
+        // The provenance `lobe render` records (figure/figure_output.h), here too.
         const lobe::ImageAttributes a = lobe::readImageAttributes((d / f).string());
         ASSERT_TRUE(a.count("lobe:command_line")) << f;
         EXPECT_NE(a.at("lobe:command_line").find(" demo --size 24 --spp 1"), std::string::npos)

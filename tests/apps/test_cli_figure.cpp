@@ -1,4 +1,4 @@
-// `lobe render` figure output from the command line (apps/figure_output.h): -o FILE, the
+// `lobe render` figure output from the command line (figure/figure_output.h): -o FILE, the
 // transparent and colour backgrounds with alpha checked on pixels whose coverage is known (the
 // CThead skull as an opaque surface covers the image centre; the corner sees past it), the
 // provenance read back (by OpenImageIO and by `oiiotool --info -v`), the refusals before

@@ -61,6 +61,14 @@ TEST(Spectrum, SrgbEncodingKnownValues) {
     EXPECT_DOUBLE_EQ(srgbEncode(-1.0), 0.0);
 }
 
+TEST(Spectrum, SrgbDecodingKnownValues) {
+    EXPECT_DOUBLE_EQ(srgbDecode(0.0), 0.0);
+    EXPECT_DOUBLE_EQ(srgbDecode(1.0), 1.0);
+    EXPECT_NEAR(srgbDecode(0.04045), 0.0031308, 1e-7);  // the two branches meet here
+    EXPECT_NEAR(srgbDecode(0.5), 0.2140411, 1e-6);      // ((0.5 + 0.055)/1.055)^2.4
+    for (double v : {0.01, 0.2, 0.7353569}) EXPECT_NEAR(srgbEncode(srgbDecode(v)), v, 1e-12);
+}
+
 }  // namespace lobe
 
 namespace lobe {
@@ -105,6 +113,18 @@ TEST(ImageFloat, NonFiniteAndHugeValuesBecomeFiniteFloats) {
     EXPECT_EQ(imageFloat(-1e39), -kMax);
     EXPECT_EQ(imageFloat(0.25), 0.25f);
     EXPECT_EQ(imageFloat(1e30), float(1e30));
+}
+
+TEST(Spectrum, SrgbToBandsInvertsBandsToSrgb) {
+    const Spectrum bands = linearSrgbToBands(0.2, 0.5, 0.7);
+    ASSERT_GE(bands[0], 0.0);  // inside the CIE RGB gamut: no clamping, exact inverse
+    const auto rgb = bandsToLinearSrgb(bands);
+    EXPECT_NEAR(rgb[0], 0.2, 1e-12);
+    EXPECT_NEAR(rgb[1], 0.5, 1e-12);
+    EXPECT_NEAR(rgb[2], 0.7, 1e-12);
+    // Pure sRGB blue lies outside the CIE RGB triangle: a band is clamped to 0, never negative.
+    const Spectrum b = linearSrgbToBands(0, 0, 1);
+    for (int i = 0; i < 3; ++i) EXPECT_GE(b[i], 0.0);
 }
 
 }  // namespace

@@ -22,19 +22,15 @@
 //    of its volume (it cannot be seen), and an image in which no pixel is covered by any object.
 #pragma once
 
-#include "apps/contact_sheet.h"
 #include "core/film.h"
 #include "core/image_output.h"
 #include "core/rgb_image.h"
+#include "figure/contact_sheet.h"
 #include "render/scene_description.h"
 
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace CLI {
-class App;
-}
 
 namespace lobe {
 
@@ -49,8 +45,6 @@ struct FigureOptions {
     std::string background;  // --background ("" : each scene's own)
     int bandRows = 0;        // --band-rows (0: bands only above kBandThresholdPixels)
 
-    // Adds -o, --exr, --png-bits and --background to `lobe render` (-o excludes `outOption`).
-    void addOptions(CLI::App& sub, const std::string& outOption = "--out");
     // Throws lobe::Error naming the option: -o with several scenes or with --shard, an
     // unsupported extension or a missing folder, --exr without -o, a bad --background.
     void validate(size_t sceneCount, bool sharded) const;
@@ -125,7 +119,7 @@ void writeGalleryFiles(const std::string& base, const Gallery& gallery,
 // A contact sheet's: lobe:sheet_captions, its cells' captions one a line.
 ImageAttributes sheetProvenance(const std::vector<std::string>& captions);
 
-// makeContactSheet (apps/contact_sheet.h) written to `path` (temporary name, then renamed) with
+// makeContactSheet (figure/contact_sheet.h) written to `path` (temporary name, then renamed) with
 // sheetProvenance.
 void writeContactSheet(const std::string& path, const std::vector<ContactSheetEntry>& entries,
                        int columns, int thumbSize);

@@ -1,4 +1,4 @@
-#include "apps/output_folder.h"
+#include "core/output_folder.h"
 
 #include "core/error.h"
 

@@ -1,4 +1,4 @@
-#include "apps/cost_report.h"
+#include "analysis/cost_report.h"
 
 #include <cstdarg>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "core/cluster.h"
+#include "cluster/cluster.h"
 
 #include "core/error.h"
 #include "core/progress.h"

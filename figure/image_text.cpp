@@ -1,4 +1,4 @@
-#include "core/image_text.h"
+#include "figure/image_text.h"
 
 #include "core/utf8.h"
 

@@ -1,12 +1,13 @@
-#include "apps/study_page.h"
+#include "study/study_page.h"
 
 #include "analysis/study.h"
-#include "apps/output_folder.h"
-#include "apps/render_batch.h"
+#include "batch/batch.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/interrupt.h"
+#include "core/output_folder.h"
 #include "core/rng.h"
+#include "core/temporary_file.h"
 #include "render/scene_file.h"
 
 #include <nlohmann/json.hpp>
@@ -21,7 +22,7 @@
 
 namespace lobe {
 
-extern const char kStudyPageHtml[];  // generated from apps/study_page.html (apps/CMakeLists.txt)
+extern const char kStudyPageHtml[];  // generated from study/study_page.html (apps/CMakeLists.txt)
 
 namespace {
 
@@ -104,40 +105,6 @@ std::string studyPage(const std::string& studyJson) {
         }
     }
     return page.replace(at, std::string(kMarker).size(), safe);
-}
-
-bool writeTextFileAtomic(const std::string& path, const std::string& text, bool noReplace) {
-    const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
-    {
-        RemovedOnInterrupt guard(temporary);
-        {
-            std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-            out << text;
-            out.flush();
-            if (!out) {
-                std::error_code ec;
-                fs::remove(temporary, ec);
-                throw Error("cannot write '" + path + "'");
-            }
-        }
-        if (noReplace) {
-            // link(2) fails with EEXIST rather than replace a file: no answers are overwritten.
-            const int linked = ::link(temporary.c_str(), path.c_str());
-            const int error = errno;
-            std::error_code ec;
-            fs::remove(temporary, ec);
-            if (linked == 0) return true;
-            if (error == EEXIST) return false;
-            throw Error("cannot write '" + path + "': " + std::strerror(error));
-        }
-        std::error_code ec;
-        fs::rename(temporary, path, ec);
-        if (ec) {
-            fs::remove(temporary, ec);
-            throw Error("cannot write '" + path + "': " + ec.message());
-        }
-    }
-    return true;
 }
 
 void buildStudy(const StudyRequest& r) {

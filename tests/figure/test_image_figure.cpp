@@ -4,8 +4,8 @@
 // attributes (provenance) read back from PNG text chunks and EXR headers.
 #include "core/error.h"
 #include "core/image_output.h"
-#include "core/image_text.h"
 #include "core/utf8.h"
+#include "figure/image_text.h"
 
 #include <OpenImageIO/imageio.h>
 #include <ft2build.h>

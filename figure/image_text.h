@@ -1,5 +1,5 @@
 // Text labels drawn into an RgbImage with FreeType and the DejaVu Sans font (Debian package
-// fonts-dejavu-core, installed by scripts/setup.sh). Part of lobe_image_io.
+// fonts-dejavu-core, installed by scripts/setup.sh). Part of lobe_captions.
 //
 // Text is UTF-8 (core/utf8.h): every character DejaVu Sans holds (Latin, Greek, Cyrillic, most
 // symbols — "é", "μ", "°", "±") is drawn with its glyph; a character the font lacks (CJK, emoji),

@@ -1,14 +1,12 @@
-#include "apps/figure_output.h"
+#include "figure/figure_output.h"
 
-#include "apps/contact_sheet.h"
 #include "core/error.h"
 #include "core/image_output.h"
 #include "core/utf8.h"
+#include "figure/contact_sheet.h"
 #include "render/gallery.h"
 #include "render/render_scene.h"
 #include "volume/transfer_function.h"
-
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -46,27 +44,6 @@ std::string shellQuoted(const std::string& arg) {
 }
 
 }  // namespace
-
-void FigureOptions::addOptions(CLI::App& sub, const std::string& outOption) {
-    CLI::Option* o = sub.add_option(
-        "-o,--output", output,
-        "a single scene's image file; its extension picks the format (.png, .jpg, .tif, .exr); "
-        "only that file is written (add --exr for the EXR beside it)");
-    if (CLI::Option* out = sub.get_option_no_throw(outOption)) o->excludes(out);
-    sub.add_flag("--exr", withExr,
-                 "with -o FILE.png/.jpg/.tif: also write FILE.exr (linear floats)");
-    sub.add_option("--png-bits", pngBits, "bits per channel of PNG (and TIFF) output: 8 or 16")
-        ->capture_default_str()
-        ->check(CLI::IsMember({8, 16}));
-    sub.add_option("--band-rows", bandRows,
-                   "render and write the image in bands of N rows, holding one band in memory "
-                   "(0: only images above 2048 x 2048 pixels, in bands of about 1 M pixels)")
-        ->capture_default_str()
-        ->check(CLI::Range(0, 1 << 20));
-    sub.add_option("--background", background,
-                   "backdrop (the paper's), none (transparent: alpha in EXR/PNG/TIFF), or a colour "
-                   "#rrggbb; overrides the scenes' \"background\" (docs/scene-format.md)");
-}
 
 void FigureOptions::validate(size_t sceneCount, bool sharded) const {
     if (pngBits != 8 && pngBits != 16) throw Error("--png-bits must be 8 or 16");

@@ -1,9 +1,9 @@
 // `lobe study SCENES… --out DIR` (docs/study.md): the stimuli rendered through `lobe render`'s
-// batch (apps/render_batch.h), the trial list (DIR/study.json) and the experiment page
-// (DIR/index.html: the template apps/study_page.html, compiled in, with the study in it).
+// batch (batch/batch.h), the trial list (DIR/study.json) and the experiment page
+// (DIR/index.html: the template study/study_page.html, compiled in, with the study in it).
 #pragma once
 
-#include "apps/scene_overrides.h"
+#include "render/scene_overrides.h"
 
 #include <cstdint>
 #include <string>
@@ -28,15 +28,12 @@ struct StudyRequest {
 // lobe::Error (nothing written over: DIR must not hold a study already).
 void buildStudy(const StudyRequest& request);
 
-// The page template (apps/study_page.html, embedded at build time).
+// The page template (study/study_page.html, embedded at build time).
 const char* studyPageTemplate();
 // The page for a study.json text: the template with the study in place of its marker (with
 // "</" written "<\/" so no text of the study can end the script).
 std::string studyPage(const std::string& studyJson);
 
-// Writes `text` to `path` completely under a temporary name, then puts it in place: renamed
-// over any old file, or with `noReplace` linked to `path` only if no file of that name exists
-// (returns false then, and nothing is written). Throws lobe::Error naming the path on failure.
-bool writeTextFileAtomic(const std::string& path, const std::string& text, bool noReplace = false);
+// writeTextFileAtomic: core/temporary_file.h.
 
 }  // namespace lobe

@@ -1,6 +1,6 @@
-// Thumbnails (apps/contact_sheet.h): the box filter against hand-computed means, and the same
+// Thumbnails (figure/contact_sheet.h): the box filter against hand-computed means, and the same
 // filter fed a poster's bands of rows (BoxResizer) against the whole image, float for float.
-#include "apps/contact_sheet.h"
+#include "figure/contact_sheet.h"
 
 #include <gtest/gtest.h>
 

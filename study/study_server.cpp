@@ -1,8 +1,9 @@
-#include "apps/study_server.h"
+#include "study/study_server.h"
 
 #include "analysis/study.h"
-#include "apps/study_page.h"
 #include "core/error.h"
+#include "core/temporary_file.h"
+#include "study/study_page.h"
 
 #include <arpa/inet.h>
 #include <httplib.h>

@@ -1,7 +1,7 @@
-#include "apps/contact_sheet.h"
+#include "figure/contact_sheet.h"
 
 #include "core/error.h"
-#include "core/image_text.h"
+#include "figure/image_text.h"
 
 #include <algorithm>
 #include <cmath>
