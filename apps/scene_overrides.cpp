@@ -98,7 +98,8 @@ void SceneOverrides::addOptions(CLI::App& sub) {
                    "(overrides the scenes; docs/scene-format.md, \"Shadows\")")
         ->check(CLI::IsMember({"off", "exact", "cached"}));
     sub.add_flag("--preview", preview,
-                 "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win)");
+                 "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win), "
+                 "He-Torrance from a table within 2 % (docs/models.md)");
 }
 
 void SceneOverrides::validate() const {
