@@ -3,8 +3,8 @@
 // beyond the last): on concentric shells of sin(ω r) = 0, 1.5 voxels apart, so that one 8³ brick
 // holds several roots along a ray and a ray through the centre makes more hits than the list's
 // capacity, as an exact iso-surface (user geometry) and a meshed one (built-in geometry, the filter
-// path), with and without a clip plane; the opacity cut (an opaque object ends the list at its
-// first hit, a translucent one where the product of transmittances falls below the cut-off).
+// path), with and without a clip plane or a mask; the opacity cut (an opaque object ends the list
+// at its first hit, a translucent one where the product of transmittances falls below the cut-off).
 #include "core/clip.h"
 #include "core/rng.h"
 #include "surface/iso_exact.h"
@@ -93,9 +93,14 @@ void expectSameHits(const std::vector<SurfaceHit>& got, const std::vector<Surfac
 struct ShellScene {
     openvdb::FloatGrid::Ptr a = shellGrid(Vec3(0.0)), b = shellGrid(Vec3(50.0, 0.0, 0.0));
     SurfaceScene scene{"threads=1"};
-    explicit ShellScene(bool clip) {
+    explicit ShellScene(bool clip, bool mask = false) {
         scene.add(std::make_shared<IsoExactSurface>(*a, 0.0, "a"));
         scene.add(std::make_shared<IsoMeshSurface>(*b, 0.0, "b"));
+        if (mask) {
+            // Keep z ≤ centre + 2 of the exact shells and z ≥ centre − 4 of the meshed ones.
+            scene.setMask(0, [](const Vec3& x) { return x.z <= kCentre.z + 2.0; });
+            scene.setMask(1, [](const Vec3& x) { return x.z >= kCentre.z - 4.0; });
+        }
         if (clip) {
             // Keep y ≥ centre + 3 of the exact shells, x ≤ 70 of the meshed ones.
             scene.setClip(0, {plane(kCentre + Vec3(0, 3, 0), Vec3(0, 1, 0))});
@@ -142,6 +147,11 @@ TEST(HitList, OneTraversalGivesTheHitsOfOneTraversalPerHit) {
 TEST(HitList, ClippedObjectsGiveTheSameHits) {
     ShellScene s(true);
     compareOnRandomRays(s.scene, 2, 5);
+}
+
+TEST(HitList, MaskedObjectsGiveTheSameHits) {
+    ShellScene s(false, true);
+    compareOnRandomRays(s.scene, 3, 5);
 }
 
 TEST(HitList, TwoRootsInOneBrickAreBothFound) {
