@@ -35,7 +35,8 @@ void addOverrideOptions(CLI::App& sub, SceneOverrides& o) {
                    "(overrides the scenes; docs/scene-format.md, \"Shadows\")")
         ->check(CLI::IsMember({"off", "exact", "cached"}));
     sub.add_flag("--preview", o.preview,
-                 "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win)");
+                 "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win), "
+                 "He-Torrance from a table within 2 % (docs/models.md)");
 }
 
 void addFigureOptions(CLI::App& sub, FigureOptions& f, const std::string& outOption) {

@@ -1,6 +1,8 @@
 // He–Torrance directional-diffuse BRDF; the model and its sources are described in he_torrance.h.
 #include "materials/he_torrance.h"
 
+#include "materials/he_torrance_table.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -27,8 +29,12 @@ const ParamTable& HeTorrance::paramTable() {
 }
 
 HeTorrance HeTorrance::fromParams(const ParamValues& p) {
-    return HeTorrance{p.get("ks"), p.get("sigma0_over_lambda"), p.get("tau_over_lambda"),
-                      p.get("eta"), p.get("kappa")};
+    return HeTorrance{p.get("ks"),
+                      p.get("sigma0_over_lambda"),
+                      p.get("tau_over_lambda"),
+                      p.get("eta"),
+                      p.get("kappa"),
+                      nullptr};
 }
 
 HeTorrance::DirectionTerms HeTorrance::directionTerms(double cosTheta, double sigma0, double tau) {
@@ -422,6 +428,7 @@ double HeTorrance::shadowingS(double cosTheta, double sigma0, double tau) {
 }
 
 Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
+    if (table) return table->eval(wi, wo);
     Vec3 h;
     if (!aboveHorizon(wi, wo) || !halfVector(wi, wo, h)) return Spectrum(0.0);
     const Vec3 sum = wi + wo;  // H, unnormalised; H·n > 0 above the horizon

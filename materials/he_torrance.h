@@ -22,8 +22,11 @@
 #include "materials/param_table.h"
 
 #include <cstdint>
+#include <memory>
 
 namespace lobe {
+
+class HeTorranceTable;
 
 struct HeTorrance {
     static constexpr const char* kName = "he_torrance";
@@ -43,6 +46,9 @@ struct HeTorrance {
     Spectrum tau{10.0};    // tau_over_lambda
     Spectrum eta{1.6};
     Spectrum kappa{0.2};
+    // Previews only (he_torrance_table.h): when set, eval() reads this table of the same
+    // parameters instead of summing the series. Null — the exact series — everywhere else.
+    std::shared_ptr<const HeTorranceTable> table;
 
     // The pieces of the definition, public so that tests can check each one (lengths in λ).
     // K(θ) for cos θ = cosTheta.

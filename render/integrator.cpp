@@ -48,7 +48,13 @@ RenderStats& RenderStats::operator+=(const RenderStats& o) {
     return *this;
 }
 
-Integrator::Integrator(const Scene& scene) : scene_(scene) { resetCaches(); }
+Integrator::Integrator(const Scene& scene) : scene_(scene) {
+    for (const SceneSurface& so : scene_.surfaceObjects()) {
+        surfaceTransmittance_.push_back(1.0 - so.spec->opacity);
+        if (so.spec->opacity < 1.0) gatherSurfaceHits_ = true;
+    }
+    resetCaches();
+}
 
 Integrator::~Integrator() = default;
 
@@ -281,10 +287,35 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         }
     std::sort(caps.begin(), caps.end(), [](const CapHit& a, const CapHit& b) { return a.t < b.t; });
     size_t nextCap = 0;
+    // The next surface hit at or beyond segment.tMin: with translucent surfaces from the hits
+    // one traversal gathered (SurfaceScene::collectHits), searching again only when that list
+    // was cut short and is used up; entries before segment.tMin (consumed, or one hit found twice)
+    // are passed over. An entry returned is not consumed until segment.tMin moves past it (a cap
+    // may come first).
+    HitList gathered;
+    int gatheredPos = 0;
+    bool gatheredValid = false;
+    const auto nextSurfaceHit = [&]() -> std::optional<SurfaceHit> {
+        if (!gatherSurfaceHits_) return surfaces->intersect(segment);
+        for (int guard = 0; guard < kMaxSurfaceHits; ++guard) {
+            if (!gatheredValid) {
+                surfaces->collectHits(segment, surfaceTransmittance_, spec.terminationTransmittance,
+                                      gathered);
+                gatheredPos = 0;
+                gatheredValid = true;
+            }
+            for (; gatheredPos < gathered.count; ++gatheredPos)
+                if (gathered.hits[gatheredPos].t >= segment.tMin)
+                    return surfaces->shadeHit(segment, gathered.hits[gatheredPos]);
+            if (gathered.complete) return std::nullopt;
+            gatheredValid = false;
+        }
+        return std::nullopt;
+    };
     for (int hits = 0;; ++hits) {
         std::optional<SurfaceHit> hit;
         const double t0 = cost ? steadySeconds() : 0.0;
-        if (surfaces && hits < kMaxSurfaceHits) hit = surfaces->intersect(segment);
+        if (surfaces && hits < kMaxSurfaceHits) hit = nextSurfaceHit();
         if (nextCap < caps.size() && (!hit || caps[nextCap].t <= hit->t)) {
             // The cap comes first: it is the event, the surface hit is found again after it.
             const CapHit& c = caps[nextCap++];

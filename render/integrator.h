@@ -130,6 +130,11 @@ private:
     std::unique_ptr<ShadowCache> cache_;        // surfaces and volumes, for volume samples
     std::unique_ptr<ShadowCache> volumeCache_;  // volumes only, for surface hits
     bool shadowsOn_ = false;
+    // Camera rays through translucent surfaces gather their hits in one traversal
+    // (SurfaceScene::collectHits) instead of one traversal per hit; with opaque surfaces only
+    // the first hit is ever needed and intersect() is used. 1 − opacity per surface object.
+    bool gatherSurfaceHits_ = false;
+    std::vector<double> surfaceTransmittance_;
 };
 
 }  // namespace lobe

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/progress.h"
+#include "materials/he_torrance_table.h"
 #include "render/framing.h"
 #include "surface/iso_exact.h"
 #include "surface/iso_levelset.h"
@@ -380,8 +381,31 @@ std::string computedViewError(const SceneSpec& spec, VolumeCache& cache) {
     return "";
 }
 
+// Previews (`--preview`, SceneSpec::previewBrdfTables): each He–Torrance material reads a table of
+// its parameters (materials/he_torrance_table.h; within its stated error bound, or the series
+// where the table refuses), one table per distinct parameter set.
+static void attachPreviewTables(SceneSpec& spec) {
+    std::vector<std::pair<HeTorrance, std::shared_ptr<const HeTorranceTable>>> built;
+    for (ObjectSpec& object : spec.objects) {
+        auto* model = std::get_if<HeTorrance>(&object.material.specular);
+        if (!model) continue;
+        const auto same = [&](const HeTorrance& m) {
+            return m.ks == model->ks && m.sigma0 == model->sigma0 && m.tau == model->tau &&
+                   m.eta == model->eta && m.kappa == model->kappa;
+        };
+        auto it =
+            std::find_if(built.begin(), built.end(), [&](const auto& b) { return same(b.first); });
+        if (it == built.end()) {
+            built.emplace_back(*model, HeTorranceTable::build(*model));
+            it = built.end() - 1;
+        }
+        model->table = it->second;
+    }
+}
+
 Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(spec) {
     openvdb::initialize();
+    if (spec_.previewBrdfTables) attachPreviewTables(spec_);
     ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);
     VolumeCache own;
     VolumeCache& volumes = cache ? *cache : own;

@@ -206,6 +206,9 @@ struct SceneSpec {
     double shadowCacheVoxels = 2.0;
     double shadowCacheStepVoxels = 0.5;  // the node rays' step (the scene's if that is coarser)
     std::vector<ObjectSpec> objects;
+    // `--preview`: He–Torrance materials read a table of their parameters instead of summing the
+    // series (materials/he_torrance_table.h, within its stated error bound). Not a scene key.
+    bool previewBrdfTables = false;
 };
 
 }  // namespace lobe

@@ -95,6 +95,7 @@ void RenderOverrides::apply(SceneSpec& spec) const {
         spec.samplesPerPixel = spp;
     else if (preview)
         spec.samplesPerPixel = 1;
+    if (preview) spec.previewBrdfTables = true;  // He–Torrance from a table (render/scene.cpp)
     if (roulette >= 0.0) spec.shadingRoulette = roulette;
     if (step > 0.0) spec.volumeStepVoxels = step;
     if (preIntegrated) spec.volumePreIntegrated = true;

@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -29,9 +30,13 @@ namespace {
 // Embree filter for built-in geometries (the quad mesh): a candidate hit outside the ray's
 // kept intervals is rejected, and Embree goes on to the next one. tfar holds the candidate's
 // distance while the filter runs.
+// With a hit collector (SurfaceScene::collectHits) a kept hit is recorded and then rejected too,
+// so that Embree goes on to the hits behind it.
 void clipFilter(const RTCFilterFunctionNArguments* args) {
     const auto* ctx = reinterpret_cast<const RayContext*>(args->context);
-    if (!ctx || (!ctx->clips && !ctx->masks) || args->N != 1 || args->valid[0] != -1) return;
+    if (!ctx || (!ctx->clips && !ctx->masks && !ctx->collector) || args->N != 1 ||
+        args->valid[0] != -1)
+        return;
     const unsigned geomId = RTCHitN_geomID(args->hit, args->N, 0);
     const float t = RTCRayN_tfar(args->ray, args->N, 0);
     const ClipIntervals* clip = ctx->clipOf(geomId);
@@ -39,6 +44,10 @@ void clipFilter(const RTCFilterFunctionNArguments* args) {
         args->valid[0] = 0;
     else if (ctx->masks && ctx->ray && !ctx->maskKeeps(geomId, ctx->ray->at(t)))
         args->valid[0] = 0;
+    else if (ctx->collector) {
+        ctx->collector->add(t, geomId, RTCHitN_primID(args->hit, args->N, 0));
+        args->valid[0] = 0;
+    }
 }
 
 }  // namespace
@@ -145,6 +154,83 @@ bool SurfaceScene::occluded(const Ray& ray) const {
     fillEmbreeRay(ray, r);
     rtcOccluded1(scene_.get(), &ctx.base, &r);
     return r.tfar < 0.0f;  // Embree sets tfar = −∞ on occlusion
+}
+
+void HitList::add(double t, unsigned geomId, unsigned primId) {
+    if (!(t >= tMin && t <= tMax)) return;  // float rounding at the ray's ends (as intersect())
+    if (!(t <= limitT)) {
+        complete = false;
+        return;
+    }
+    if (count == kCapacity) {
+        complete = false;
+        if (t >= hits[count - 1].t) {  // behind every kept hit: dropped
+            limitT = std::min(limitT, hits[count - 1].t);
+            return;
+        }
+        --count;  // the farthest makes room
+    }
+    int i = count++;
+    for (; i > 0 && hits[i - 1].t > t; --i) hits[i] = hits[i - 1];  // equal t: after, stable
+    hits[i] = {t, geomId, primId};
+    // The opacity cut: the product of the transmittances of the hits so far, skipping those
+    // closer than nextStart to the previous one, exactly as the integrator composites them.
+    double T = 1.0, next = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < count; ++k) {
+        if (hits[k].t < next) continue;
+        const unsigned g = hits[k].geomId;
+        T *= g < geomCount ? transmittanceOfGeom[g] : 1.0;
+        next = nextStart(hits[k].t);
+        if (T <= 0.0 || T < cutoff) {
+            if (k + 1 < count) count = k + 1;
+            complete = false;
+            limitT = std::min(limitT, hits[k].t);
+            return;
+        }
+    }
+    if (count == kCapacity) {
+        complete = false;
+        limitT = std::min(limitT, hits[count - 1].t);
+    }
+}
+
+void SurfaceScene::collectHits(const Ray& ray, const std::vector<double>& objectTransmittance,
+                               double cutoff, HitList& out) const {
+    if (!committed_) throw Error("SurfaceScene::collectHits: commit() was not called");
+    thread_local std::vector<double> transmittanceOfGeom;
+    transmittanceOfGeom.assign(objectOfGeom_.size(), 1.0);
+    for (size_t g = 0; g < objectOfGeom_.size(); ++g)
+        if (objectOfGeom_[g] >= 0 && size_t(objectOfGeom_[g]) < objectTransmittance.size())
+            transmittanceOfGeom[g] = objectTransmittance[size_t(objectOfGeom_[g])];
+    out = HitList();
+    out.transmittanceOfGeom = transmittanceOfGeom.data();
+    out.geomCount = unsigned(transmittanceOfGeom.size());
+    out.cutoff = cutoff;
+    out.tMin = ray.tMin;
+    out.tMax = ray.tMax;
+    RayContext ctx;
+    rtcInitIntersectContext(&ctx.base);
+    ctx.ray = &ray;
+    ctx.collector = &out;
+    thread_local std::vector<ClipIntervals> clipBuffer;
+    thread_local std::vector<const ClipIntervals*> clipPointers;
+    if (anyClip_) fillClips(ray, ctx, clipBuffer, clipPointers);
+    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
+    RTCRayHit rh;
+    fillEmbreeRay(ray, rh.ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_.get(), &ctx.base, &rh);
+    out.transmittanceOfGeom = nullptr;  // the thread's buffer: not valid beyond this call
+    out.geomCount = 0;
+}
+
+SurfaceHit SurfaceScene::shadeHit(const Ray& ray, const HitList::Entry& e) const {
+    const int objectId = objectOfGeom_.at(e.geomId);
+    SurfaceHit hit = objects_[size_t(objectId)]->shade(ray, e.t, e.primId);
+    hit.objectId = objectId;
+    return hit;
 }
 
 std::vector<SurfaceHit> SurfaceScene::allHits(const Ray& ray, int maxHits, double epsilon) const {

@@ -6,8 +6,9 @@
 //
 // SurfaceScene owns the Embree device and scene and answers single-ray queries in double
 // precision: intersect(ray) returns the first hit with t ∈ [ray.tMin, ray.tMax]; callers that need
-// every hit in depth order (volume compositing) call it again with tMin just beyond the last hit,
-// or use allHits(). Queries are thread-safe once commit() has run.
+// every hit in depth order (volume compositing through translucent surfaces) call collectHits(),
+// which gathers a ray's hits in depth order in one Embree traversal (HitList, below), or
+// allHits(). Queries are thread-safe once commit() has run.
 //
 // Precision. Embree's rays are float; user geometries (the exact iso-surface) receive the
 // caller's double ray through RayContext and report their double hit distance back through it,
@@ -25,6 +26,7 @@
 #include "surface/embree_device.h"
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -37,6 +39,48 @@ struct SurfaceHit {
     Vec3 normal{0, 0, 1};  // unit, world space, see "Normal convention"
     int objectId = -1;     // index returned by SurfaceScene::add
     unsigned primId = 0;   // the Embree primitive (quad or brick)
+};
+
+// The hits of one ray in depth order, gathered by one traversal (SurfaceScene::collectHits):
+// Embree visits the primitives in no particular order, so every candidate hit is inserted into
+// this sorted list instead of ending the search, and the search goes on. Each primitive reports
+// all its roots in turn, the next searched from just beyond the last (kHitStep, the step the
+// integrator has always taken between hits), so a primitive holding two walls of a thin bone
+// reports both. The list is cut short where it can no longer matter (limit()):
+// - at kCapacity hits (the farthest is dropped), and
+// - at the first hit where the product of (1 − opacity) of the hits before it and itself, each
+//   object's transmittance given by the caller, falls below `cutoff`: the surfaces alone make the
+//   ray opaque there (an opaque object ends the list at its first hit, as intersect() does).
+// Hits beyond the limit are not searched for: user geometries search only up to it and Embree's
+// ray is shortened to it, so it culls the primitives behind.
+struct HitList {
+    static constexpr int kCapacity = 16;
+    // The step beyond a hit to the next search (world units, relative to 1 + t): the
+    // integrator's; hits closer than that to the previous one are one hit found twice (a root on
+    // a face shared by two bricks, within their 1e-7-voxel overlap).
+    static double nextStart(double t) { return t + 1e-6 * (1.0 + t); }
+    struct Entry {
+        double t;
+        unsigned geomId;
+        unsigned primId;
+    };
+    Entry hits[kCapacity];
+    int count = 0;
+    // False when hits were dropped or never searched for beyond hits[count − 1] (the capacity or
+    // the opacity cut): a caller that needs more searches again from nextStart of the last.
+    bool complete = true;
+
+    // Set by SurfaceScene::collectHits: transmittance (1 − opacity) per Embree geometry ID and
+    // the cut-off (render/compositor.h's termination transmittance).
+    const double* transmittanceOfGeom = nullptr;
+    unsigned geomCount = 0;
+    double cutoff = 0.0;
+    double tMin = 0.0, tMax = std::numeric_limits<double>::infinity();  // the caller's ray's
+    double limitT = std::numeric_limits<double>::infinity();
+
+    double limit() const { return limitT; }
+    // Inserts a hit in depth order and recomputes the limit (the surface_scene.cpp definition).
+    void add(double t, unsigned geomId, unsigned primId);
 };
 
 // Passed to rtcIntersect1/rtcOccluded1 in place of a plain RTCIntersectContext (it starts with
@@ -55,6 +99,9 @@ struct RayContext {
     const ClipIntervals* clipOf(unsigned geomId) const {
         return clips && geomId < clipCount ? clips[geomId] : nullptr;
     }
+    // Not null: gather every hit into this list instead of keeping the nearest
+    // (SurfaceScene::collectHits); tHit/geomId/primId are then unused.
+    HitList* collector = nullptr;
     // Masks (SurfaceScene::setMask), by Embree geometry ID; empty functions keep every hit.
     const std::vector<std::function<bool(const Vec3&)>>* masks = nullptr;
     // Whether the mask of geomId keeps world point x.
@@ -92,6 +139,16 @@ public:
 
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
     bool occluded(const Ray& ray) const;
+    // The ray's hits in depth order from one traversal, into `out` (HitList: up to its capacity,
+    // and up to the first hit where the product of objectTransmittance[objectId] over the hits so
+    // far falls below cutoff). objectTransmittance: one per object, in [0, 1].
+    // Hits closer than HitList::nextStart to the previous one are kept (callers skip them).
+    void collectHits(const Ray& ray, const std::vector<double>& objectTransmittance, double cutoff,
+                     HitList& out) const;
+    // The shading of entry e of a HitList filled for `ray` (SurfaceGeometry::shade).
+    SurfaceHit shadeHit(const Ray& ray, const HitList::Entry& e) const;
+    int objectOfGeometry(unsigned geomId) const { return objectOfGeom_.at(geomId); }
+
     // Every hit along the ray in depth order, at most maxHits: repeated intersect() with tMin
     // moved epsilon (world units, relative to 1 + t) beyond the last hit.
     std::vector<SurfaceHit> allHits(const Ray& ray, int maxHits = 64, double epsilon = 1e-6) const;

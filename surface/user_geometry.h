@@ -14,6 +14,7 @@
 #include "surface/surface_scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace lobe::user_geometry {
@@ -92,6 +93,24 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
                    di = self->primitiveSpace().directionToIndex(d);
         double t;
         const ClipIntervals* clip = args->N == 1 && ctx ? ctx->clipOf(args->geomID) : nullptr;
+        if (args->N == 1 && ctx && ctx->collector) {
+            // Gathering (SurfaceScene::collectHits): every root of the primitive up to the list's
+            // limit, each searched from just beyond the last; no hit is reported to Embree, but
+            // its ray is shortened to the limit so that it culls what lies behind.
+            HitList& list = *ctx->collector;
+            double a = tMin;
+            for (int guard = 0; guard < 128 && a <= std::min(tMax, list.limit()); ++guard) {
+                if (!intersectClipped(*self, args->primID, oi, di, a, std::min(tMax, list.limit()),
+                                      clip, t, ctx, args->geomID))
+                    break;
+                list.add(t, args->geomID, args->primID);
+                a = HitList::nextStart(t);
+            }
+            if (list.limit() < RTCRayN_tfar(ray, args->N, i))
+                RTCRayN_tfar(ray, args->N, i) = std::nextafter(
+                    static_cast<float>(list.limit()), std::numeric_limits<float>::infinity());
+            continue;
+        }
         if (!intersectClipped(*self, args->primID, oi, di, tMin, tMax, clip, t,
                               args->N == 1 ? ctx : nullptr, args->geomID))
             continue;
