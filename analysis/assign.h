@@ -65,6 +65,18 @@ struct AssignOptions {
     std::vector<double> minVisibility, minChroma, minLuminance, maxLuminance;
 };
 
+// No sparkle, whatever the candidates (defaults, --tune variants, lobes scaled to equal albedo):
+// for every free object (options.fixed −1), a candidate is not offered when more than
+// kSparkleLimit of its highlight there is specks (sparkleShare on its layer: a highlight narrower
+// than a pixel) and more than twice the least specky `reference` candidate's share there (the
+// nine models at their defaults; on a structure a few pixels across every highlight is a speck,
+// and the defaults stay). Sets options.objectAllowed; returns one line per candidate not offered,
+// "object: candidate (NN % in specks; the least default NN %)". sparkleShare does not depend on
+// the layer's scale, so an equal-albedo lobe is judged by its shape.
+std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
+                                        const std::vector<bool>& reference,
+                                        AssignOptions& options);
+
 // Whether `report`'s objects keep the bounds of `options` (not the distinct rule).
 bool withinBounds(const SeparationReport& report, const AssignOptions& options);
 

@@ -272,40 +272,25 @@ void runAssign(AssignCommand& cmd) {
     if (cmd.keepFraction > 0.0)
         for (const ObjectVisibility& v : input.objects) {
             search.minVisibility.push_back(cmd.keepFraction * v.visibility);
-            search.minChroma.push_back(cmd.keepFraction * v.chroma);
+            // An achromatic object (a grey or white colour) has no colour to keep.
+            search.minChroma.push_back(v.chromatic && v.chroma >= kAchromaticChroma
+                                           ? cmd.keepFraction * v.chroma
+                                           : 0.0);
         }
     if (cmd.brightnessBand > 0.0)
         for (const ObjectVisibility& v : input.objects) {
             search.minLuminance.push_back(v.meanLuminance / cmd.brightnessBand);
             search.maxLuminance.push_back(v.meanLuminance * cmd.brightnessBand);
         }
-    // No sparkle (--tune): a parameter variant whose highlight on an object is mostly isolated
-    // specks — narrower than a pixel of the layers, which are coarser than any final render — is
-    // not offered for that object, unless it specks no more than twice as much as the least
-    // specky model at its defaults there (a structure a few pixels across, where any highlight is
-    // a speck). The nine models at their defaults (the paper's) are always offered.
+    // No sparkle (analysis/assign.h excludeSparkle), for every candidate: a highlight mostly
+    // isolated specks in the layers — narrower than a pixel of the layers, which are no finer
+    // than the final render — is not offered for that object.
+    std::vector<bool> reference(candidates.size());
+    for (size_t c = 0; c < candidates.size(); ++c)
+        reference[c] = candidates[c].settings.empty() && !candidates[c].brdf;
     std::string sparkleNote;
-    search.objectAllowed.assign(k, std::vector<bool>(candidates.size(), true));
-    for (size_t i = 0; i < k; ++i) {
-        if (fixed[i] >= 0) continue;
-        std::vector<double> share(candidates.size());
-        double defaults = 1.0;
-        for (size_t c = 0; c < candidates.size(); ++c) {
-            share[c] = sparkleShare(layers.layer(int(i), int(c)).data(), spec.width, spec.height);
-            if (candidates[c].settings.empty() && !candidates[c].brdf)
-                defaults = std::min(defaults, share[c]);
-        }
-        for (size_t c = 0; c < candidates.size(); ++c)
-            if (!candidates[c].settings.empty() && share[c] > kSparkleLimit &&
-                share[c] > 2.0 * defaults) {
-                search.objectAllowed[i][c] = false;
-                sparkleNote += "\n- " + spec.objects[i].name + ": " + candidates[c].label() + " (" +
-                               fmt("%.0f", 100.0 * share[c]) +
-                               " % of its highlight in specks; the "
-                               "defaults' least " +
-                               fmt("%.0f", 100.0 * defaults) + " %)";
-            }
-    }
+    for (const std::string& line : excludeSparkle(layers, reference, search))
+        sparkleNote += "\n- " + line;
     // The scene's own assignment, where every object's model is a default-parameter candidate.
     std::vector<int> current(k, -1);
     for (size_t i = 0; i < k; ++i) {
@@ -359,7 +344,8 @@ void runAssign(AssignCommand& cmd) {
         (cmd.distinct ? "; no two objects share a model" : std::string()) + ".\n\n";
     if (!sparkleNote.empty())
         md += "Not offered (sparkle: more than " + fmt("%.0f", 100 * kSparkleLimit) +
-              " % of the highlight in isolated pixels, kSparklePeak× their neighbours):" +
+              " % of the highlight in isolated pixels, " + fmt("%g", kSparklePeak) +
+              "× the mean of their neighbours, and twice the least specky default model's):" +
               sparkleNote + "\n\n";
     md += "| rank | score |";
     for (const ObjectSpec& obj : spec.objects) md += " " + obj.name + " |";
