@@ -337,6 +337,40 @@ void forEachAssignment(const std::vector<std::vector<int>>& choices, Fn&& fn) {
     }
 }
 
+// Calls fn(assignment, score) for every assignment of the product space, the sums updated by
+// differences from one assignment to the next.
+template <class Fn>
+void forEachScored(const std::vector<std::vector<int>>& choices, const Support& support,
+                   IncrementalSums& state, Judge& judge, Fn&& fn) {
+    const size_t k = choices.size();
+    // The odometer's fastest digit changes at every step: give it the object with the fewest
+    // pixels to update (a small region rather than a hull over the whole image).
+    std::vector<size_t> order(k);
+    for (size_t i = 0; i < k; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
+        return support.pixels[x].size() < support.pixels[y].size();
+    });
+    std::vector<std::vector<int>> permuted(k);
+    for (size_t i = 0; i < k; ++i) permuted[i] = choices[order[i]];
+    std::vector<int> a(k);
+    SeparationScorer::Sums trial;
+    uint64_t step = 0;
+    forEachAssignment(permuted, [&](const std::vector<int>& p) {
+        for (size_t i = 0; i < k; ++i) a[order[i]] = p[i];
+        // Differences accumulate rounding: start afresh now and then.
+        if (step++ % 8192 == 0) {
+            state.reset(a);
+        } else {
+            for (size_t i = 0; i < k; ++i)
+                if (a[i] != state.assignment()[i]) {
+                    state.trial(i, a[i], trial);
+                    state.accept(i, a[i], trial);
+                }
+        }
+        fn(a, judge(state.sums(), a));
+    });
+}
+
 }  // namespace
 
 AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptions& options) {
@@ -352,20 +386,8 @@ AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptio
     const size_t k = choices.size();
     if (result.space <= options.exhaustiveLimit) {
         result.exhaustive = true;
-        uint64_t step = 0;
-        forEachAssignment(choices, [&](const std::vector<int>& a) {
-            // Differences accumulate rounding: start afresh now and then.
-            if (step++ % 8192 == 0) {
-                state.reset(a);
-            } else {
-                for (size_t i = 0; i < k; ++i)
-                    if (a[i] != state.assignment()[i]) {
-                        state.trial(i, a[i], trial);
-                        state.accept(i, a[i], trial);
-                    }
-            }
-            ranking.offer(a, judge(state.sums(), a));
-        });
+        forEachScored(choices, support, state, judge,
+                      [&](const std::vector<int>& a, double score) { ranking.offer(a, score); });
     } else {
         // Local search: coordinate ascent from several starts.
         Rng rng(options.seed, 0xa551);
@@ -436,9 +458,15 @@ uint64_t countBetter(const AssignmentLayers& layers, const AssignOptions& option
     AssignResult scratch;
     Judge judge(layers, options, scratch);
     const SeparationReport mine = assignmentReport(judge.scorer, layers, assignment);
+    const std::vector<std::vector<int>> choices = choicesPerObject(layers, options);
+    const Support support = supportOf(layers, judge.scorer, choices);
+    IncrementalSums state(layers, judge.scorer, support);
+    // Sums updated by differences carry rounding: "better" is better by more than that.
+    const double margin = 1e-12 * std::max(1.0, std::abs(mine.score));
     uint64_t better = 0;
-    forEachAssignment(choicesPerObject(layers, options),
-                      [&](const std::vector<int>& a) { better += judge(a) > mine.score; });
+    forEachScored(choices, support, state, judge, [&](const std::vector<int>&, double score) {
+        better += score > mine.score + margin;
+    });
     return better;
 }
 

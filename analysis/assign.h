@@ -74,8 +74,7 @@ struct AssignOptions {
 // "object: candidate (NN % in specks; the least default NN %)". sparkleShare does not depend on
 // the layer's scale, so an equal-albedo lobe is judged by its shape.
 std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
-                                        const std::vector<bool>& reference,
-                                        AssignOptions& options);
+                                        const std::vector<bool>& reference, AssignOptions& options);
 
 // Whether `report`'s objects keep the bounds of `options` (not the distinct rule).
 bool withinBounds(const SeparationReport& report, const AssignOptions& options);

@@ -144,8 +144,7 @@ SeparationScorer::Sums SeparationScorer::emptySums() const {
 }
 
 void SeparationScorer::addPixel(size_t i, const std::vector<const float*>& specular,
-                                const uint32_t* active, size_t count, double sign,
-                                Sums& s) const {
+                                const uint32_t* active, size_t count, double sign, Sums& s) const {
     if (count == 0) return;
     const SeparationLayers& l = layers_;
     const bool shoulder = toneIsShoulder(l.tone);

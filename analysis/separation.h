@@ -129,7 +129,7 @@ public:
     // are, c_a − min), so only pairs seen together in a pixel cost anything there.
     struct Sums {
         std::vector<int64_t> area, seen;
-        std::vector<int64_t> idCount;  // pixels where the object's own colour is chromatic
+        std::vector<int64_t> idCount;     // pixels where the object's own colour is chromatic
         std::vector<double> seenSum;      // Σ c_o over pixels where c_o > t
         std::vector<double> contrastSum;  // Σ c_o over pixels where c_o ≥ t
         std::vector<double> shareSum, veilSum, idSum, idWeight, chromaSum, lumSum;

@@ -273,9 +273,8 @@ void runAssign(AssignCommand& cmd) {
         for (const ObjectVisibility& v : input.objects) {
             search.minVisibility.push_back(cmd.keepFraction * v.visibility);
             // An achromatic object (a grey or white colour) has no colour to keep.
-            search.minChroma.push_back(v.chromatic && v.chroma >= kAchromaticChroma
-                                           ? cmd.keepFraction * v.chroma
-                                           : 0.0);
+            search.minChroma.push_back(
+                v.chromatic && v.chroma >= kAchromaticChroma ? cmd.keepFraction * v.chroma : 0.0);
         }
     if (cmd.brightnessBand > 0.0)
         for (const ObjectVisibility& v : input.objects) {

@@ -480,9 +480,8 @@ TEST(Assign, SearchRanksAsScoringEveryAssignmentFromScratch) {
         std::vector<int> as = {a % m, a / m % m, a / (m * m) % m, a / (m * m * m)};
         all.push_back({as, assignmentScore(l, as)});
     }
-    std::stable_sort(all.begin(), all.end(), [](const auto& x, const auto& y) {
-        return x.score > y.score;
-    });
+    std::stable_sort(all.begin(), all.end(),
+                     [](const auto& x, const auto& y) { return x.score > y.score; });
     AssignOptions o;
     o.top = 5;
     const AssignResult r = searchAssignments(l, o);
@@ -538,7 +537,8 @@ TEST(Assign, SpecklyCandidatesAreNeverChosen) {
         std::vector<float> v(3 * n, 0.0f);
         for (int y = first; y < h; y += 4)
             for (int x = first; x < w; x += 4)
-                for (int c = 0; c < 3; ++c) v[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = float(peak);
+                for (int c = 0; c < 3; ++c)
+                    v[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = float(peak);
         return v;
     };
     for (int o = 0; o < 2; ++o) {
@@ -554,8 +554,7 @@ TEST(Assign, SpecklyCandidatesAreNeverChosen) {
     ASSERT_FALSE(unruled.ranked.empty());
     EXPECT_EQ(unruled.ranked[0].assignment, (std::vector<int>{1, 1}));
     AssignOptions ruled;
-    const std::vector<std::string> notes =
-        excludeSparkle(l, {true, true, false, false}, ruled);
+    const std::vector<std::string> notes = excludeSparkle(l, {true, true, false, false}, ruled);
     EXPECT_EQ(notes.size(), 4u);  // specks and scaled specks, on both objects
     const AssignResult r = searchAssignments(l, ruled);
     ASSERT_FALSE(r.ranked.empty());
