@@ -279,8 +279,12 @@ private:
 struct Ranking {
     size_t top;
     std::vector<ScoredAssignment> best;
+    ScoredAssignment closest{{}, -std::numeric_limits<double>::infinity()};
     void offer(const std::vector<int>& a, double score) {
-        if (score < 0.0) return;  // inadmissible (Judge)
+        if (score < 0.0) {  // inadmissible (Judge)
+            if (score > closest.score) closest = {a, score};
+            return;
+        }
         for (const ScoredAssignment& s : best)
             if (s.assignment == a) return;
         if (best.size() == top && !(score > best.back().score)) return;
@@ -450,6 +454,7 @@ AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptio
         ranking.best.begin(), ranking.best.end(),
         [](const ScoredAssignment& x, const ScoredAssignment& y) { return x.score > y.score; });
     result.ranked = ranking.best;
+    if (result.ranked.empty()) result.closest = ranking.closest.assignment;
     return result;
 }
 

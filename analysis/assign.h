@@ -91,6 +91,9 @@ struct AssignResult {
     bool exhaustive = false;
     uint64_t evaluated = 0;  // assignments scored
     uint64_t space = 0;      // assignments in the search space (saturates at UINT64_MAX)
+    // When `ranked` is empty: the assignment found nearest to the bounds (least sum of relative
+    // shortfalls), to say which objects could not keep them.
+    std::vector<int> closest;
 };
 
 // Exhaustive when the space is at most options.exhaustiveLimit; otherwise local search: from

@@ -309,13 +309,37 @@ void runAssign(AssignCommand& cmd) {
     const AssignResult result = searchAssignments(layers, search);
     const double searchSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - searchStart).count();
-    if (result.ranked.empty())
-        throw Error("no assignment keeps every object's visibility and chroma at " +
-                    fmt("%g", cmd.keepFraction) + " of the input's" +
-                    (cmd.brightnessBand > 0.0 ? " and its luminance in the band" : std::string()) +
-                    (cmd.distinct ? " with distinct models" : std::string()) +
-                    " (lower --keep-visible, widen --brightness-band, or drop --distinct); nothing "
-                    "written");
+    if (result.ranked.empty()) {
+        // Which objects the nearest assignment found could not keep within the bounds.
+        std::string short_;
+        if (!result.closest.empty()) {
+            const SeparationReport near = assignmentReport(weber, layers, result.closest);
+            for (size_t i = 0; i < k && short_.size() < 400; ++i) {
+                const ObjectVisibility& v = near.objects[i];
+                std::string what;
+                if (i < search.minVisibility.size() && v.visibility < search.minVisibility[i])
+                    what += " V " + fmt("%.3g", v.visibility) + " < " +
+                            fmt("%.3g", search.minVisibility[i]);
+                if (i < search.minChroma.size() && v.chroma < search.minChroma[i])
+                    what +=
+                        " C* " + fmt("%.3g", v.chroma) + " < " + fmt("%.3g", search.minChroma[i]);
+                if (i < search.minLuminance.size() && (v.meanLuminance < search.minLuminance[i] ||
+                                                       v.meanLuminance > search.maxLuminance[i]))
+                    what += " Y out of the band";
+                if (!what.empty())
+                    short_ += (short_.empty() ? "" : ";") + std::string(" ") +
+                              spec.objects[i].name + ":" + what;
+            }
+        }
+        throw Error(
+            "no assignment keeps every object's visibility and chroma at " +
+            fmt("%g", cmd.keepFraction) + " of the input's" +
+            (cmd.brightnessBand > 0.0 ? " and its luminance in the band" : std::string()) +
+            (cmd.distinct ? " with distinct models" : std::string()) +
+            (short_.empty() ? std::string() : " (the nearest found falls short on" + short_ + ")") +
+            " (lower --keep-visible, widen --brightness-band, or drop --distinct); nothing "
+            "written");
+    }
 
     std::string md =
         "# BRDF assignment: " + full.title + "\n\nScene `" + cmd.scene + "`; layers rendered at " +
