@@ -388,7 +388,10 @@ AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptio
     IncrementalSums state(layers, judge.scorer, support);
     SeparationScorer::Sums trial, best;
     const size_t k = choices.size();
-    if (result.space <= options.exhaustiveLimit) {
+    size_t fewest = layers.pixelCount();
+    for (const std::vector<uint32_t>& p : support.pixels) fewest = std::min(fewest, p.size());
+    if (result.space <= options.exhaustiveLimit &&
+        double(result.space) * double(std::max<size_t>(fewest, 1)) <= options.exhaustiveWork) {
         result.exhaustive = true;
         forEachScored(choices, support, state, judge,
                       [&](const std::vector<int>& a, double score) { ranking.offer(a, score); });
