@@ -55,10 +55,10 @@ struct AssignOptions {
     int top = 10;                                  // how many ranked assignments to keep
     uint64_t exhaustiveLimit = 200000;             // search every assignment up to this many
     // … and only while assignments × the pixels of the object that changes at every step (the
-    // one with the fewest) stay within this many pixel updates (about a minute of work):
-    // beyond, the local search.
-    double exhaustiveWork = 2e8;
-    int restarts = 16;                             // local search: random starts besides `start`
+    // one with the fewest) stay within this many pixel updates (a pixel update costs about a
+    // microsecond: some 20 s of work): beyond, the local search.
+    double exhaustiveWork = 2e7;
+    int restarts = 16;       // local search: random starts besides `start`
     std::vector<int> start;  // local search: a first start (e.g. the scene's own)
     uint64_t seed = 1;
     SeparationMetric metric = SeparationMetric::Weber;
