@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 
@@ -40,6 +41,36 @@ double sparkleShare(const float* rgb, int width, int height) {
             if (count > 0 && v > kSparklePeak * neighbour / count) specks += v;
         }
     return specks / total;
+}
+
+std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
+                                        const std::vector<bool>& reference,
+                                        AssignOptions& options) {
+    const size_t k = layers.objects().size(), m = layers.candidates.size();
+    if (reference.size() != m) throw Error("internal: excludeSparkle: one flag per candidate");
+    const int width = layers.scene.width, height = layers.scene.height;
+    if (options.objectAllowed.size() != k) options.objectAllowed.assign(k, {});
+    std::vector<std::string> notes;
+    for (size_t o = 0; o < k; ++o) {
+        if (o < options.fixed.size() && options.fixed[o] >= 0) continue;
+        std::vector<bool>& allowed = options.objectAllowed[o];
+        if (allowed.size() != m) allowed.assign(m, true);
+        std::vector<double> share(m);
+        double least = 1.0;
+        for (size_t c = 0; c < m; ++c) {
+            share[c] = sparkleShare(layers.layer(int(o), int(c)).data(), width, height);
+            if (reference[c]) least = std::min(least, share[c]);
+        }
+        for (size_t c = 0; c < m; ++c)
+            if (allowed[c] && share[c] > kSparkleLimit && share[c] > 2.0 * least) {
+                allowed[c] = false;
+                char buf[96];
+                std::snprintf(buf, sizeof buf, " (%.0f %% in specks; the least default %.0f %%)",
+                              100.0 * share[c], 100.0 * least);
+                notes.push_back(layers.objects()[o] + ": " + layers.candidates[c] + buf);
+            }
+    }
+    return notes;
 }
 
 AssignmentLayers mergeAssignmentObjects(const AssignmentLayers& in, const std::string& name,
@@ -96,15 +127,36 @@ bool withinBounds(const SeparationReport& r, const AssignOptions& o) {
 
 namespace {
 
-bool repeatsAModel(const AssignmentLayers& layers, const std::vector<int>& a) {
+// How many objects use a model an earlier object uses.
+int repeatedModels(const AssignmentLayers& layers, const std::vector<int>& a) {
     std::set<std::string> used;
-    for (int c : a)
-        if (!used.insert(layers.candidateModels[size_t(c)]).second) return true;
-    return false;
+    int repeats = 0;
+    for (int c : a) repeats += !used.insert(layers.candidateModels[size_t(c)]).second;
+    return repeats;
 }
 
-// Scores assignments under the options' metric and constraints; an inadmissible one scores
-// −∞ (never ranked, never taken by the local search).
+// How far `report` is from the bounds of `options`: the sum of the relative shortfalls (0 when
+// within them).
+double boundsViolation(const SeparationReport& r, const AssignOptions& o) {
+    const auto below = [](double v, double bound) {
+        return v < bound ? (bound - v) / std::max(bound, 1e-12) : 0.0;
+    };
+    double sum = 0.0;
+    for (size_t i = 0; i < r.objects.size(); ++i) {
+        const ObjectVisibility& v = r.objects[i];
+        if (i < o.minVisibility.size()) sum += below(v.visibility, o.minVisibility[i]);
+        if (i < o.minChroma.size()) sum += below(v.chroma, o.minChroma[i]);
+        if (i < o.minLuminance.size()) sum += below(v.meanLuminance, o.minLuminance[i]);
+        if (i < o.maxLuminance.size() && v.meanLuminance > o.maxLuminance[i])
+            sum += (v.meanLuminance - o.maxLuminance[i]) / std::max(o.maxLuminance[i], 1e-12);
+    }
+    return sum;
+}
+
+// Scores assignments under the options' metric and constraints. Scores are ≥ 0; an
+// inadmissible assignment gets −1 − (how far it is from admissible: the relative shortfalls of
+// the bounds plus the repeated models under `distinct`), so it is never ranked but the local
+// search, started somewhere inadmissible, climbs towards the admissible ones.
 struct Judge {
     const AssignmentLayers& layers;
     const AssignOptions& options;
@@ -116,27 +168,123 @@ struct Judge {
           scorer(l.scene, o.metric == SeparationMetric::Itp ? kItpThreshold : kWeberContrast,
                  o.metric),
           result(r) {}
-    double operator()(const std::vector<int>& a) {
+    double judge(const SeparationReport& r, const std::vector<int>& a) {
         ++result.evaluated;
-        if (options.distinct && repeatsAModel(layers, a)) {
+        const double violation = (options.distinct ? double(repeatedModels(layers, a)) : 0.0) +
+                                 boundsViolation(r, options);
+        if (violation > 0.0) {
             ++result.rejected;
-            return -std::numeric_limits<double>::infinity();
-        }
-        const SeparationReport r = assignmentReport(scorer, layers, a);
-        if (!withinBounds(r, options)) {
-            ++result.rejected;
-            return -std::numeric_limits<double>::infinity();
+            return -1.0 - violation;
         }
         return r.score;
     }
+    double operator()(const std::vector<int>& a) {
+        return judge(assignmentReport(scorer, layers, a), a);
+    }
+    double operator()(const SeparationScorer::Sums& sums, const std::vector<int>& a) {
+        return judge(scorer.report(sums, false), a);
+    }
+};
+
+bool nonZero(const std::vector<float>& layer, size_t i) {
+    return layer[3 * i] != 0.0f || layer[3 * i + 1] != 0.0f || layer[3 * i + 2] != 0.0f;
+}
+
+// Where an assignment can change anything: per pixel the objects with a matte weight or a
+// non-zero layer for any of their choices (ascending), per object the pixels where any of its
+// choices is non-zero. An object swapped for another candidate changes only its own pixels.
+struct Support {
+    std::vector<uint32_t> start, objects;       // pixel i: objects[start[i] .. start[i + 1])
+    std::vector<std::vector<uint32_t>> pixels;  // per object
+};
+
+Support supportOf(const AssignmentLayers& layers, const SeparationScorer& scorer,
+                  const std::vector<std::vector<int>>& choices) {
+    const size_t n = layers.pixelCount(), k = choices.size();
+    std::vector<std::vector<char>> lit(k, std::vector<char>(n, 0));
+    Support s;
+    s.pixels.resize(k);
+    for (size_t o = 0; o < k; ++o) {
+        for (int c : choices[o]) {
+            const std::vector<float>& layer = layers.layer(int(o), c);
+            for (size_t i = 0; i < n; ++i)
+                if (nonZero(layer, i)) lit[o][i] = 1;
+        }
+        for (size_t i = 0; i < n; ++i)
+            if (lit[o][i]) s.pixels[o].push_back(uint32_t(i));
+    }
+    s.start.assign(n + 1, 0);
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t o = 0; o < k; ++o)
+            if (lit[o][i] || scorer.inMatte(i, o)) s.objects.push_back(uint32_t(o));
+        s.start[i + 1] = uint32_t(s.objects.size());
+    }
+    return s;
+}
+
+// The score's sums for the current assignment, updated pixel by pixel as objects change
+// candidate (SeparationScorer::Sums): a trial costs the changed object's pixels, not the image.
+class IncrementalSums {
+public:
+    IncrementalSums(const AssignmentLayers& layers, const SeparationScorer& scorer,
+                    const Support& support)
+        : layers_(layers), scorer_(scorer), support_(support) {}
+
+    void reset(const std::vector<int>& a) {
+        assignment_ = a;
+        specular_.resize(a.size());
+        for (size_t o = 0; o < a.size(); ++o) specular_[o] = layers_.layer(int(o), a[o]).data();
+        sums_ = scorer_.emptySums();
+        const size_t n = layers_.pixelCount();
+        for (size_t i = 0; i < n; ++i) add(i, specular_, 1.0, sums_);
+    }
+    const SeparationScorer::Sums& sums() const { return sums_; }
+    const std::vector<int>& assignment() const { return assignment_; }
+
+    // `out`: the sums with object o at candidate c, the others as now.
+    void trial(size_t o, int c, SeparationScorer::Sums& out) {
+        out = sums_;
+        if (c == assignment_[o]) return;
+        const std::vector<float>& before = layers_.layer(int(o), assignment_[o]);
+        const std::vector<float>& after = layers_.layer(int(o), c);
+        scratch_ = specular_;
+        scratch_[o] = after.data();
+        for (uint32_t i : support_.pixels[o]) {
+            if (!nonZero(before, i) && !nonZero(after, i)) continue;
+            add(i, specular_, -1.0, out);
+            add(i, scratch_, 1.0, out);
+        }
+    }
+    void accept(size_t o, int c, SeparationScorer::Sums& sums) {
+        assignment_[o] = c;
+        specular_[o] = layers_.layer(int(o), c).data();
+        std::swap(sums_, sums);
+    }
+
+private:
+    void add(size_t i, const std::vector<const float*>& specular, double sign,
+             SeparationScorer::Sums& s) const {
+        const uint32_t b = support_.start[i], e = support_.start[i + 1];
+        scorer_.addPixel(i, specular, support_.objects.data() + b, e - b, sign, s);
+    }
+    const AssignmentLayers& layers_;
+    const SeparationScorer& scorer_;
+    const Support& support_;
+    std::vector<int> assignment_;
+    std::vector<const float*> specular_, scratch_;
+    SeparationScorer::Sums sums_;
 };
 
 // Keeps the `top` best distinct assignments seen.
 struct Ranking {
     size_t top;
     std::vector<ScoredAssignment> best;
+    ScoredAssignment closest{{}, -std::numeric_limits<double>::infinity()};
     void offer(const std::vector<int>& a, double score) {
-        if (!(score > -std::numeric_limits<double>::infinity())) return;
+        if (score < 0.0) {  // inadmissible (Judge)
+            if (score > closest.score) closest = {a, score};
+            return;
+        }
         for (const ScoredAssignment& s : best)
             if (s.assignment == a) return;
         if (best.size() == top && !(score > best.back().score)) return;
@@ -193,6 +341,40 @@ void forEachAssignment(const std::vector<std::vector<int>>& choices, Fn&& fn) {
     }
 }
 
+// Calls fn(assignment, score) for every assignment of the product space, the sums updated by
+// differences from one assignment to the next.
+template <class Fn>
+void forEachScored(const std::vector<std::vector<int>>& choices, const Support& support,
+                   IncrementalSums& state, Judge& judge, Fn&& fn) {
+    const size_t k = choices.size();
+    // The odometer's fastest digit changes at every step: give it the object with the fewest
+    // pixels to update (a small region rather than a hull over the whole image).
+    std::vector<size_t> order(k);
+    for (size_t i = 0; i < k; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) {
+        return support.pixels[x].size() < support.pixels[y].size();
+    });
+    std::vector<std::vector<int>> permuted(k);
+    for (size_t i = 0; i < k; ++i) permuted[i] = choices[order[i]];
+    std::vector<int> a(k);
+    SeparationScorer::Sums trial;
+    uint64_t step = 0;
+    forEachAssignment(permuted, [&](const std::vector<int>& p) {
+        for (size_t i = 0; i < k; ++i) a[order[i]] = p[i];
+        // Differences accumulate rounding: start afresh now and then.
+        if (step++ % 8192 == 0) {
+            state.reset(a);
+        } else {
+            for (size_t i = 0; i < k; ++i)
+                if (a[i] != state.assignment()[i]) {
+                    state.trial(i, a[i], trial);
+                    state.accept(i, a[i], trial);
+                }
+        }
+        fn(a, judge(state.sums(), a));
+    });
+}
+
 }  // namespace
 
 AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptions& options) {
@@ -202,53 +384,80 @@ AssignResult searchAssignments(const AssignmentLayers& layers, const AssignOptio
     result.space = spaceSize(choices);
     Judge judge(layers, options, result);
     Ranking ranking{size_t(std::max(1, options.top)), {}};
-    if (result.space <= options.exhaustiveLimit) {
+    const Support support = supportOf(layers, judge.scorer, choices);
+    IncrementalSums state(layers, judge.scorer, support);
+    SeparationScorer::Sums trial, best;
+    const size_t k = choices.size();
+    size_t fewest = layers.pixelCount();
+    for (const std::vector<uint32_t>& p : support.pixels) fewest = std::min(fewest, p.size());
+    if (result.space <= options.exhaustiveLimit &&
+        double(result.space) * double(std::max<size_t>(fewest, 1)) <= options.exhaustiveWork) {
         result.exhaustive = true;
-        forEachAssignment(choices, [&](const std::vector<int>& a) { ranking.offer(a, judge(a)); });
-        result.ranked = ranking.best;
-        return result;
-    }
-    // Local search: coordinate ascent from several starts.
-    Rng rng(options.seed, 0xa551);
-    std::vector<std::vector<int>> starts;
-    if (options.start.size() == choices.size()) {
-        std::vector<int> s = options.start;
-        for (size_t i = 0; i < s.size(); ++i)
-            if (std::find(choices[i].begin(), choices[i].end(), s[i]) == choices[i].end())
-                s[i] = choices[i][0];
-        starts.push_back(s);
-    }
-    for (int r = 0; r < options.restarts; ++r) {
-        std::vector<int> s(choices.size());
-        for (size_t i = 0; i < s.size(); ++i)
-            s[i] =
-                choices[i][size_t(rng.uniform() * double(choices[i].size())) % choices[i].size()];
-        starts.push_back(s);
-    }
-    for (std::vector<int> a : starts) {
-        double score = judge(a);
-        ranking.offer(a, score);
-        for (bool changed = true; changed;) {
-            changed = false;
-            for (size_t i = 0; i < a.size(); ++i) {
+        forEachScored(choices, support, state, judge,
+                      [&](const std::vector<int>& a, double score) { ranking.offer(a, score); });
+    } else {
+        // Local search: coordinate ascent from several starts.
+        Rng rng(options.seed, 0xa551);
+        std::vector<std::vector<int>> starts;
+        if (options.start.size() == choices.size()) {
+            std::vector<int> s = options.start;
+            for (size_t i = 0; i < s.size(); ++i)
+                if (std::find(choices[i].begin(), choices[i].end(), s[i]) == choices[i].end())
+                    s[i] = choices[i][0];
+            starts.push_back(s);
+        }
+        for (int r = 0; r < options.restarts; ++r) {
+            std::vector<int> s(choices.size());
+            for (size_t i = 0; i < s.size(); ++i)
+                s[i] = choices[i][size_t(rng.uniform() * double(choices[i].size())) %
+                                  choices[i].size()];
+            starts.push_back(s);
+        }
+        for (std::vector<int> a : starts) {
+            state.reset(a);
+            double score = judge(state.sums(), a);
+            ranking.offer(a, score);
+            // Each object in turn takes the candidate that scores best with the others held;
+            // done when a whole round of the objects changes none.
+            for (size_t quiet = 0, i = 0; quiet < k; i = (i + 1) % k) {
                 const int keep = a[i];
+                int chosen = keep;
+                double top = score;
                 for (int c : choices[i]) {
                     if (c == keep) continue;
+                    state.trial(i, c, trial);
                     a[i] = c;
-                    const double s = judge(a);
+                    const double s = judge(trial, a);
                     ranking.offer(a, s);
-                    if (s > score) {
-                        score = s;
-                        changed = true;
-                        break;  // take the improvement; the sweep goes on from here
+                    if (s > top) {
+                        top = s;
+                        chosen = c;
+                        std::swap(best, trial);
                     }
-                    a[i] = keep;
                 }
-                if (changed) break;
+                a[i] = chosen;
+                if (chosen != keep) {
+                    state.accept(i, chosen, best);
+                    score = top;
+                    quiet = 0;
+                } else {
+                    ++quiet;
+                }
             }
         }
     }
+    // The ranked scores from a pass over the image, not from sums updated by differences.
+    AssignResult scratch;
+    Judge exact(layers, options, scratch);
+    for (ScoredAssignment& r : ranking.best) r.score = exact(r.assignment);
+    ranking.best.erase(std::remove_if(ranking.best.begin(), ranking.best.end(),
+                                      [](const ScoredAssignment& r) { return r.score < 0.0; }),
+                       ranking.best.end());
+    std::stable_sort(
+        ranking.best.begin(), ranking.best.end(),
+        [](const ScoredAssignment& x, const ScoredAssignment& y) { return x.score > y.score; });
     result.ranked = ranking.best;
+    if (result.ranked.empty()) result.closest = ranking.closest.assignment;
     return result;
 }
 
@@ -257,9 +466,15 @@ uint64_t countBetter(const AssignmentLayers& layers, const AssignOptions& option
     AssignResult scratch;
     Judge judge(layers, options, scratch);
     const SeparationReport mine = assignmentReport(judge.scorer, layers, assignment);
+    const std::vector<std::vector<int>> choices = choicesPerObject(layers, options);
+    const Support support = supportOf(layers, judge.scorer, choices);
+    IncrementalSums state(layers, judge.scorer, support);
+    // Sums updated by differences carry rounding: "better" is better by more than that.
+    const double margin = 1e-12 * std::max(1.0, std::abs(mine.score));
     uint64_t better = 0;
-    forEachAssignment(choicesPerObject(layers, options),
-                      [&](const std::vector<int>& a) { better += judge(a) > mine.score; });
+    forEachScored(choices, support, state, judge, [&](const std::vector<int>&, double score) {
+        better += score > mine.score + margin;
+    });
     return better;
 }
 

@@ -54,7 +54,11 @@ struct AssignOptions {
     std::vector<std::vector<bool>> objectAllowed;  // per object, per candidate (empty: all)
     int top = 10;                                  // how many ranked assignments to keep
     uint64_t exhaustiveLimit = 200000;             // search every assignment up to this many
-    int restarts = 16;                             // local search: random starts besides `start`
+    // … and only while assignments × the pixels of the object that changes at every step (the
+    // one with the fewest) stay within this many pixel updates (a pixel update costs about a
+    // microsecond: some 20 s of work): beyond, the local search.
+    double exhaustiveWork = 2e7;
+    int restarts = 16;       // local search: random starts besides `start`
     std::vector<int> start;  // local search: a first start (e.g. the scene's own)
     uint64_t seed = 1;
     SeparationMetric metric = SeparationMetric::Weber;
@@ -64,6 +68,17 @@ struct AssignOptions {
     bool distinct = false;
     std::vector<double> minVisibility, minChroma, minLuminance, maxLuminance;
 };
+
+// No sparkle, whatever the candidates (defaults, --tune variants, lobes scaled to equal albedo):
+// for every free object (options.fixed −1), a candidate is not offered when more than
+// kSparkleLimit of its highlight there is specks (sparkleShare on its layer: a highlight narrower
+// than a pixel) and more than twice the least specky `reference` candidate's share there (the
+// nine models at their defaults; on a structure a few pixels across every highlight is a speck,
+// and the defaults stay). Sets options.objectAllowed; returns one line per candidate not offered,
+// "object: candidate (NN % in specks; the least default NN %)". sparkleShare does not depend on
+// the layer's scale, so an equal-albedo lobe is judged by its shape.
+std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
+                                        const std::vector<bool>& reference, AssignOptions& options);
 
 // Whether `report`'s objects keep the bounds of `options` (not the distinct rule).
 bool withinBounds(const SeparationReport& report, const AssignOptions& options);
@@ -80,6 +95,9 @@ struct AssignResult {
     bool exhaustive = false;
     uint64_t evaluated = 0;  // assignments scored
     uint64_t space = 0;      // assignments in the search space (saturates at UINT64_MAX)
+    // When `ranked` is empty: the assignment found nearest to the bounds (least sum of relative
+    // shortfalls), to say which objects could not keep them.
+    std::vector<int> closest;
 };
 
 // Exhaustive when the space is at most options.exhaustiveLimit; otherwise local search: from

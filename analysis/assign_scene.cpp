@@ -246,40 +246,24 @@ void assignScene(const AssignRequest& cmd) {
     if (cmd.keepFraction > 0.0)
         for (const ObjectVisibility& v : input.objects) {
             search.minVisibility.push_back(cmd.keepFraction * v.visibility);
-            search.minChroma.push_back(cmd.keepFraction * v.chroma);
+            // An achromatic object (a grey or white colour) has no colour to keep.
+            search.minChroma.push_back(
+                v.chromatic && v.chroma >= kAchromaticChroma ? cmd.keepFraction * v.chroma : 0.0);
         }
     if (cmd.brightnessBand > 0.0)
         for (const ObjectVisibility& v : input.objects) {
             search.minLuminance.push_back(v.meanLuminance / cmd.brightnessBand);
             search.maxLuminance.push_back(v.meanLuminance * cmd.brightnessBand);
         }
-    // No sparkle (--tune): a parameter variant whose highlight on an object is mostly isolated
-    // specks — narrower than a pixel of the layers, which are coarser than any final render — is
-    // not offered for that object, unless it specks no more than twice as much as the least
-    // specky model at its defaults there (a structure a few pixels across, where any highlight is
-    // a speck). The nine models at their defaults (the paper's) are always offered.
+    // No sparkle (analysis/assign.h excludeSparkle), for every candidate: a highlight mostly
+    // isolated specks in the layers — narrower than a pixel of the layers, which are no finer
+    // than the final render — is not offered for that object.
+    std::vector<bool> reference(candidates.size());
+    for (size_t c = 0; c < candidates.size(); ++c)
+        reference[c] = candidates[c].settings.empty() && !candidates[c].brdf;
     std::string sparkleNote;
-    search.objectAllowed.assign(k, std::vector<bool>(candidates.size(), true));
-    for (size_t i = 0; i < k; ++i) {
-        if (fixed[i] >= 0) continue;
-        std::vector<double> share(candidates.size());
-        double defaults = 1.0;
-        for (size_t c = 0; c < candidates.size(); ++c) {
-            share[c] = sparkleShare(layers.layer(int(i), int(c)).data(), spec.width, spec.height);
-            if (candidates[c].settings.empty() && !candidates[c].brdf)
-                defaults = std::min(defaults, share[c]);
-        }
-        for (size_t c = 0; c < candidates.size(); ++c)
-            if (!candidates[c].settings.empty() && share[c] > kSparkleLimit &&
-                share[c] > 2.0 * defaults) {
-                search.objectAllowed[i][c] = false;
-                sparkleNote += "\n- " + spec.objects[i].name + ": " + candidates[c].label() + " (" +
-                               fmt("%.0f", 100.0 * share[c]) +
-                               " % of its highlight in specks; the "
-                               "defaults' least " +
-                               fmt("%.0f", 100.0 * defaults) + " %)";
-            }
-    }
+    for (const std::string& line : excludeSparkle(layers, reference, search))
+        sparkleNote += "\n- " + line;
     // The scene's own assignment, where every object's model is a default-parameter candidate.
     std::vector<int> current(k, -1);
     for (size_t i = 0; i < k; ++i) {
@@ -299,13 +283,37 @@ void assignScene(const AssignRequest& cmd) {
     const AssignResult result = searchAssignments(layers, search);
     const double searchSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - searchStart).count();
-    if (result.ranked.empty())
-        throw Error("no assignment keeps every object's visibility and chroma at " +
-                    fmt("%g", cmd.keepFraction) + " of the input's" +
-                    (cmd.brightnessBand > 0.0 ? " and its luminance in the band" : std::string()) +
-                    (cmd.distinct ? " with distinct models" : std::string()) +
-                    " (lower --keep-visible, widen --brightness-band, or drop --distinct); nothing "
-                    "written");
+    if (result.ranked.empty()) {
+        // Which objects the nearest assignment found could not keep within the bounds.
+        std::string short_;
+        if (!result.closest.empty()) {
+            const SeparationReport near = assignmentReport(weber, layers, result.closest);
+            for (size_t i = 0; i < k && short_.size() < 400; ++i) {
+                const ObjectVisibility& v = near.objects[i];
+                std::string what;
+                if (i < search.minVisibility.size() && v.visibility < search.minVisibility[i])
+                    what += " V " + fmt("%.3g", v.visibility) + " < " +
+                            fmt("%.3g", search.minVisibility[i]);
+                if (i < search.minChroma.size() && v.chroma < search.minChroma[i])
+                    what +=
+                        " C* " + fmt("%.3g", v.chroma) + " < " + fmt("%.3g", search.minChroma[i]);
+                if (i < search.minLuminance.size() && (v.meanLuminance < search.minLuminance[i] ||
+                                                       v.meanLuminance > search.maxLuminance[i]))
+                    what += " Y out of the band";
+                if (!what.empty())
+                    short_ += (short_.empty() ? "" : ";") + std::string(" ") +
+                              spec.objects[i].name + ":" + what;
+            }
+        }
+        throw Error(
+            "no assignment keeps every object's visibility and chroma at " +
+            fmt("%g", cmd.keepFraction) + " of the input's" +
+            (cmd.brightnessBand > 0.0 ? " and its luminance in the band" : std::string()) +
+            (cmd.distinct ? " with distinct models" : std::string()) +
+            (short_.empty() ? std::string() : " (the nearest found falls short on" + short_ + ")") +
+            " (lower --keep-visible, widen --brightness-band, or drop --distinct); nothing "
+            "written");
+    }
 
     std::string md =
         "# BRDF assignment: " + full.title + "\n\nScene `" + cmd.scene + "`; layers rendered at " +
@@ -333,7 +341,8 @@ void assignScene(const AssignRequest& cmd) {
         (cmd.distinct ? "; no two objects share a model" : std::string()) + ".\n\n";
     if (!sparkleNote.empty())
         md += "Not offered (sparkle: more than " + fmt("%.0f", 100 * kSparkleLimit) +
-              " % of the highlight in isolated pixels, kSparklePeak× their neighbours):" +
+              " % of the highlight in isolated pixels, " + fmt("%g", kSparklePeak) +
+              "× the mean of their neighbours, and twice the least specky default model's):" +
               sparkleNote + "\n\n";
     md += "| rank | score |";
     for (const ObjectSpec& obj : spec.objects) md += " " + obj.name + " |";

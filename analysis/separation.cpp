@@ -131,101 +131,118 @@ SeparationScorer::SeparationScorer(const SeparationLayers& l, double threshold,
         if (idWeight[o] > 0.0) matteIdentity_[o] = idSum[o] / idWeight[o];
 }
 
-SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& specular) const {
-    if (specular.size() != k_) throw Error("separation: one specular layer per object expected");
+SeparationScorer::Sums SeparationScorer::emptySums() const {
+    Sums s;
+    s.area.assign(k_, 0);
+    s.seen.assign(k_, 0);
+    s.idCount.assign(k_, 0);
+    for (std::vector<double>* v : {&s.seenSum, &s.contrastSum, &s.shareSum, &s.veilSum, &s.idSum,
+                                   &s.idWeight, &s.chromaSum, &s.lumSum})
+        v->assign(k_, 0.0);
+    s.together.assign(k_ * k_, 0.0);
+    return s;
+}
+
+void SeparationScorer::addPixel(size_t i, const std::vector<const float*>& specular,
+                                const uint32_t* active, size_t count, double sign, Sums& s) const {
+    if (count == 0) return;
     const SeparationLayers& l = layers_;
     const bool shoulder = toneIsShoulder(l.tone);
     const bool itp = metric_ == SeparationMetric::Itp;
     const bool hasDepth = !l.depth.empty();
-    SeparationReport r;
-    r.metric = metric_;
-    r.threshold = threshold_;
-    const size_t pairs = k_ * (k_ - 1) / 2;
-    std::vector<double> OA(pairs, 0.0), OB(pairs, 0.0), Oab(pairs, 0.0), Oba(pairs, 0.0);
-    std::vector<int64_t> area(k_, 0), seen(k_, 0);
-    std::vector<double> contrastSum(k_, 0.0), shareSum(k_, 0.0), veilSum(k_, 0.0), idSum(k_, 0.0),
-        idWeight(k_, 0.0), chromaSum(k_, 0.0), lumSum(k_, 0.0);
-    std::vector<double> c(k_), ys(k_);
-    for (size_t i = 0; i < n_; ++i) {
-        // A pixel no object reaches and no highlight lights adds nothing to any sum (c = 0, w = 0).
-        bool empty = true;
-        for (size_t o = 0; o < k_ && empty; ++o) {
-            const float* S = specular[o] + 3 * i;
-            empty = weight_[i * k_ + o] == 0.0f && S[0] == 0.0f && S[1] == 0.0f && S[2] == 0.0f;
-        }
-        if (empty) continue;
-        double B[3] = {base_[3 * i], base_[3 * i + 1], base_[3 * i + 2]};
-        for (size_t o = 0; o < k_; ++o)
-            for (int b = 0; b < 3; ++b) B[b] += specular[o][3 * i + size_t(b)];
-        const double Y = srgbLuminance(B[0], B[1], B[2]);
-        const Rgb3 shown = {displayedShoulder(B[0], shoulder), displayedShoulder(B[1], shoulder),
-                            displayedShoulder(B[2], shoulder)};
-        const Rgb3 lab = srgbToLab(shown);
-        const double chroma = std::sqrt(lab[1] * lab[1] + lab[2] * lab[2]);
-        Rgb3 ictcp{};
-        if (itp) ictcp = srgbToIctcp(shown, l.peakLuminance);
-        for (size_t o = 0; o < k_; ++o) {
-            const float* S = specular[o] + 3 * i;
-            ys[o] = lum(S);
-            if (itp) {  // detection map: the pixel with and without the object's specular pass
+    thread_local std::vector<double> c, ys;
+    thread_local std::vector<uint32_t> lit;
+    c.resize(count);
+    ys.resize(count);
+    lit.clear();
+    double B[3] = {base_[3 * i], base_[3 * i + 1], base_[3 * i + 2]};
+    for (size_t u = 0; u < count; ++u)
+        for (int b = 0; b < 3; ++b) B[b] += specular[active[u]][3 * i + size_t(b)];
+    const double Y = srgbLuminance(B[0], B[1], B[2]);
+    const Rgb3 shown = {displayedShoulder(B[0], shoulder), displayedShoulder(B[1], shoulder),
+                        displayedShoulder(B[2], shoulder)};
+    const Rgb3 lab = srgbToLab(shown);
+    const double chroma = std::sqrt(lab[1] * lab[1] + lab[2] * lab[2]);
+    Rgb3 ictcp{};
+    if (itp) ictcp = srgbToIctcp(shown, l.peakLuminance);
+    for (size_t u = 0; u < count; ++u) {
+        const size_t o = active[u];
+        const float* S = specular[o] + 3 * i;
+        ys[u] = lum(S);
+        if (itp) {  // detection map: the pixel with and without the object's specular pass
+            if (S[0] == 0.0f && S[1] == 0.0f && S[2] == 0.0f) {
+                c[u] = 0.0;
+            } else {
                 const Rgb3 off = {displayedShoulder(B[0] - S[0], shoulder),
                                   displayedShoulder(B[1] - S[1], shoulder),
                                   displayedShoulder(B[2] - S[2], shoulder)};
-                c[o] = deltaEItp(ictcp, srgbToIctcp(off, l.peakLuminance));
-            } else {
-                c[o] = Y > 0.0 ? double(float(ys[o] / Y)) : 0.0;
+                c[u] = deltaEItp(ictcp, srgbToIctcp(off, l.peakLuminance));
             }
-            area[o] += c[o] > threshold_;
-            if (c[o] >= threshold_) contrastSum[o] += c[o];
+        } else {
+            c[u] = Y > 0.0 ? double(float(ys[u] / Y)) : 0.0;
         }
-        for (size_t o = 0; o < k_; ++o) {
-            const size_t j = i * k_ + o;
-            const double share = Y > 0.0 ? (lambertY_[j] + ys[o]) / Y : 0.0;
-            seen[o] += share >= kWeberContrast;
-            const double w = weight_[j];
-            if (w == 0.0) continue;
-            shareSum[o] += w * std::min(share, 1.0);
-            chromaSum[o] += w * chroma;
-            lumSum[o] += w * (lambertY_[j] + ys[o]);
-            if (hasDepth && Y > 0.0) {
-                const float d = l.depth[o][i];
-                double veil = 0.0;
-                for (size_t a = 0; a < k_; ++a) {
-                    const float da = l.depth[a][i];
-                    if (a != o && da > 0.0f && d > 0.0f && da < d) veil += ys[a];
-                }
-                veilSum[o] += w * std::min(1.0, veil / Y);
-            }
-            if (ownC_[j] > 0.0f) {
-                const double along = lab[1] * ownA_[j] + lab[2] * ownB_[j];
-                idSum[o] += w * std::clamp(along / ownC_[j], 0.0, 1.0);
-                idWeight[o] += w;
-            }
+        if (c[u] > threshold_) {
+            s.area[o] += sign > 0.0 ? 1 : -1;
+            s.seenSum[o] += sign * c[u];
+            lit.push_back(uint32_t(u));
         }
-        size_t p = 0;
-        for (size_t a = 0; a < k_; ++a)
-            for (size_t b = a + 1; b < k_; ++b, ++p) {
-                const OverlapContribution cd = overlapContribution(c[a], c[b], threshold_);
-                OA[p] += cd.c;
-                OB[p] += cd.d;
-            }
+        if (c[u] >= threshold_) s.contrastSum[o] += sign * c[u];
     }
+    for (size_t u = 0; u < count; ++u) {
+        const size_t o = active[u];
+        const size_t j = i * k_ + o;
+        const double share = Y > 0.0 ? (lambertY_[j] + ys[u]) / Y : 0.0;
+        if (share >= kWeberContrast) s.seen[o] += sign > 0.0 ? 1 : -1;
+        const double w = weight_[j];
+        if (w == 0.0) continue;
+        s.shareSum[o] += sign * w * std::min(share, 1.0);
+        s.chromaSum[o] += sign * w * chroma;
+        s.lumSum[o] += sign * w * (lambertY_[j] + ys[u]);
+        if (hasDepth && Y > 0.0) {
+            const float d = l.depth[o][i];
+            double veil = 0.0;
+            for (size_t v = 0; v < count; ++v) {
+                const float da = l.depth[active[v]][i];
+                if (v != u && da > 0.0f && d > 0.0f && da < d) veil += ys[v];
+            }
+            s.veilSum[o] += sign * w * std::min(1.0, veil / Y);
+        }
+        if (ownC_[j] > 0.0f) {
+            const double along = lab[1] * ownA_[j] + lab[2] * ownB_[j];
+            s.idSum[o] += sign * w * std::clamp(along / ownC_[j], 0.0, 1.0);
+            s.idWeight[o] += sign * w;
+            s.idCount[o] += sign > 0.0 ? 1 : -1;
+        }
+    }
+    for (size_t x = 0; x < lit.size(); ++x)
+        for (size_t y = x + 1; y < lit.size(); ++y)
+            s.together[size_t(active[lit[x]]) * k_ + active[lit[y]]] +=
+                sign * std::min(c[lit[x]], c[lit[y]]);
+}
+
+SeparationReport SeparationScorer::report(const Sums& s, bool withPairs) const {
+    const SeparationLayers& l = layers_;
+    const bool itp = metric_ == SeparationMetric::Itp;
+    SeparationReport r;
+    r.metric = metric_;
+    r.threshold = threshold_;
+    r.objects.resize(k_);
     for (size_t o = 0; o < k_; ++o) {
-        ObjectVisibility v;
+        ObjectVisibility& v = r.objects[o];
         v.name = l.objects[o];
-        v.visibleShare = n_ ? double(seen[o]) / double(n_) : 0.0;
-        v.specularShare = n_ ? double(area[o]) / double(n_) : 0.0;
-        v.meanSpecularContrast = area[o] ? contrastSum[o] / double(area[o]) : 0.0;
+        v.visibleShare = n_ ? double(s.seen[o]) / double(n_) : 0.0;
+        v.specularShare = n_ ? double(s.area[o]) / double(n_) : 0.0;
+        v.meanSpecularContrast = s.area[o] > 0 ? s.contrastSum[o] / double(s.area[o]) : 0.0;
         const double W = weightSum_[o];
         if (W > 0.0) {
-            v.visibility = shareSum[o] / W;
+            v.visibility = s.shareSum[o] / W;
             v.matteVisibility = matteShare_[o] / W;
-            v.veiling = veilSum[o] / W;
-            v.chroma = chromaSum[o] / W;
-            v.meanLuminance = lumSum[o] / W;
+            v.veiling = s.veilSum[o] / W;
+            v.chroma = s.chromaSum[o] / W;
+            v.meanLuminance = s.lumSum[o] / W;
         }
-        v.chromatic = idWeight[o] > 0.0;
-        v.identity = v.chromatic ? idSum[o] / idWeight[o] : 1.0;
+        v.chromatic = s.idCount[o] > 0;
+        v.identity = v.chromatic ? s.idSum[o] / s.idWeight[o] : 1.0;
         v.matteIdentity = matteIdentity_[o];
         const double keptColour =
             v.matteIdentity > 0.0 ? std::min(1.0, v.identity / v.matteIdentity) : 1.0;
@@ -233,32 +250,57 @@ SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& spe
         const double kept =
             v.matteVisibility > 0.0 ? std::min(1.0, v.visibility / v.matteVisibility) : 1.0;
         v.quality = kept * (1.0 - v.veiling) * keptColour;
-        r.objects.push_back(v);
     }
-    size_t p = 0;
+    const size_t pairs = k_ * (k_ - 1) / 2;
+    if (withPairs) r.pairs.reserve(pairs);
     for (size_t a = 0; a < k_; ++a)
-        for (size_t b = a + 1; b < k_; ++b, ++p) {
-            PairSeparation ps;
-            ps.a = int(a);
-            ps.b = int(b);
-            FluxOverlap& m = ps.metric;
-            m.OA = OA[p];
-            m.OB = OB[p];
-            m.areaA = area[a];
-            m.areaB = area[b];
-            m.eSum = (area[a] > 0 && area[b] > 0)
-                         ? std::min(OA[p] / double(area[a]), OB[p] / double(area[b]))
+        for (size_t b = a + 1; b < k_; ++b) {
+            FluxOverlap m;
+            m.areaA = s.area[a];
+            m.areaB = s.area[b];
+            const double both = s.together[a * k_ + b];
+            m.OA = std::max(0.0, s.seenSum[a] - both);
+            m.OB = std::max(0.0, s.seenSum[b] - both);
+            m.eSum = (m.areaA > 0 && m.areaB > 0)
+                         ? std::min(m.OA / double(m.areaA), m.OB / double(m.areaB))
                          : 0.0;
-            ps.score = itp ? m.eSum : m.eSum * r.objects[a].quality * r.objects[b].quality;
+            const double score =
+                itp ? m.eSum : m.eSum * r.objects[a].quality * r.objects[b].quality;
             r.highlight += m.eSum;
-            r.score += ps.score;
-            r.pairs.push_back(ps);
+            r.score += score;
+            if (withPairs) {
+                PairSeparation ps;
+                ps.a = int(a);
+                ps.b = int(b);
+                ps.metric = m;
+                ps.score = score;
+                r.pairs.push_back(ps);
+            }
         }
     if (pairs > 0) {
         r.highlight /= double(pairs);
         r.score /= double(pairs);
     }
     return r;
+}
+
+SeparationReport SeparationScorer::evaluate(const std::vector<const float*>& specular) const {
+    if (specular.size() != k_) throw Error("separation: one specular layer per object expected");
+    Sums s = emptySums();
+    std::vector<uint32_t> active;
+    active.reserve(k_);
+    for (size_t i = 0; i < n_; ++i) {
+        // Objects neither in the matte image nor lit by a highlight here add nothing (c = 0,
+        // w = 0); a pixel without any adds nothing to any sum.
+        active.clear();
+        for (size_t o = 0; o < k_; ++o) {
+            const float* S = specular[o] + 3 * i;
+            if (weight_[i * k_ + o] != 0.0f || S[0] != 0.0f || S[1] != 0.0f || S[2] != 0.0f)
+                active.push_back(uint32_t(o));
+        }
+        addPixel(i, specular, active.data(), active.size(), 1.0, s);
+    }
+    return report(s);
 }
 
 SeparationReport measureSeparation(const SeparationLayers& layers, double threshold,

@@ -37,6 +37,7 @@
 #include "analysis/flux_overlap.h"
 #include "core/rgb_image.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -119,6 +120,31 @@ public:
     double score(const std::vector<const float*>& specular) const {
         return evaluate(specular).score;
     }
+
+    // The report is made from sums over pixels, so a change confined to some pixels (one
+    // object's specular layer swapped: `lobe assign`'s search) can be applied as the difference
+    // of those pixels' terms instead of a pass over the image. The pair terms use
+    //   OA_ab = Σ_{c_a>t} c_a − Σ_{c_a>t, c_b>t} min(c_a, c_b)
+    // (overlapContribution summed: where only A's highlight is seen it counts c_a, where both
+    // are, c_a − min), so only pairs seen together in a pixel cost anything there.
+    struct Sums {
+        std::vector<int64_t> area, seen;
+        std::vector<int64_t> idCount;     // pixels where the object's own colour is chromatic
+        std::vector<double> seenSum;      // Σ c_o over pixels where c_o > t
+        std::vector<double> contrastSum;  // Σ c_o over pixels where c_o ≥ t
+        std::vector<double> shareSum, veilSum, idSum, idWeight, chromaSum, lumSum;
+        std::vector<double> together;  // [a · k + b], a < b: Σ min(c_a, c_b) where both > t
+    };
+    Sums emptySums() const;
+    // Adds (sign +1) or takes away (−1) pixel i's terms. `active`: the objects (ascending) that
+    // may have a non-zero weight or specular there; the others must be zero at i.
+    void addPixel(size_t i, const std::vector<const float*>& specular, const uint32_t* active,
+                  size_t count, double sign, Sums& sums) const;
+    // Objects (every field) and, with `pairs`, the pair list; score and highlight always.
+    SeparationReport report(const Sums& sums, bool pairs = true) const;
+    // Whether an object has a matte weight at pixel i (the objects always active there).
+    bool inMatte(size_t i, size_t object) const { return weight_[i * k_ + object] != 0.0f; }
+    size_t objectCount() const { return k_; }
 
 private:
     const SeparationLayers& layers_;

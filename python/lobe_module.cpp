@@ -659,6 +659,11 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
     search.fixed = fixed;
     search.allowed = allowed;
     search.top = top;
+    // No sparkle, as `lobe assign` (analysis/assign.h excludeSparkle).
+    std::vector<bool> reference(candidates.size());
+    for (size_t c = 0; c < candidates.size(); ++c)
+        reference[c] = candidates[c].settings.empty() && !candidates[c].brdf;
+    const std::vector<std::string> notOffered = excludeSparkle(layers, reference, search);
     std::vector<int> current(spec.objects.size(), -1);
     for (size_t i = 0; i < spec.objects.size(); ++i) {
         if (fixed[i] >= 0)
@@ -696,6 +701,7 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
     out["current_score"] =
         hasCurrent ? py::object(py::float_(assignmentScore(layers, current))) : py::none();
     out["exhaustive"] = result.exhaustive;
+    out["not_offered"] = notOffered;  // "object: candidate (…% in specks …)"
     out["evaluated"] = result.evaluated;
     out["space"] = result.space;
     return out;

@@ -208,12 +208,17 @@ def skull_scene(model):
 
 
 # The paper-shape set (issue 25): the same 24 combinations with the lobes' magnitude controlled —
-# every lobe scaled to albedo SHAPE_ALBEDO at normal incidence (brdf.albedo, materials/albedo.h),
-# so the renderings differ by the lobes' shapes only; iso-surfaces shaded with the B-spline
-# gradient ("normals": "bspline": no facet per 2 mm cell on the density maps); and the
+# every lobe of an object scaled to one albedo at normal incidence (brdf.albedo,
+# materials/albedo.h), so the renderings differ by the lobes' shapes only: SHAPE_ALBEDO for the
+# cortex and the density maps, SHAPE_SKULL_ALBEDO for the skull; iso-surfaces shaded with the
+# B-spline gradient ("normals": "bspline": no facet per 2 mm cell on the density maps); and the
 # translucent skull's Lambert term lowered to SHAPE_SKULL_KD so that its many crossings do not
-# lay a grey veil over the brain (its highlights, which the question is about, keep their albedo).
-SHAPE_ALBEDO = 0.3
+# lay a grey veil over the brain. The skull's lobe is dimmer than the inner objects' because at
+# albedo 0.3 its bony detail glitters with sub-pixel glints that change with every sample: two
+# seeds of rendering 1 at 256^2 x 2 spp differed by 2.8 grey levels, more than renderings 1 and 2
+# (0.8), which differ only inside the skull (docs/separation.md, "The paper-shape set").
+SHAPE_ALBEDO = 0.5
+SHAPE_SKULL_ALBEDO = 0.05
 SHAPE_SKULL_KD = 0.05
 
 
@@ -222,7 +227,7 @@ def shape_scene(number, group, combo, zoom):
     sc["title"] = "%d%s shape: %s" % (number, " zoom" if zoom else "", sc["title"].split(": ", 1)[1])
     sc["group"] = "shape-" + sc["group"]
     for o in sc["objects"]:
-        o["brdf"]["albedo"] = SHAPE_ALBEDO
+        o["brdf"]["albedo"] = SHAPE_SKULL_ALBEDO if o["name"] == "skull" else SHAPE_ALBEDO
         if o["kind"] == "isosurface":
             o["normals"] = "bspline"
         if o["name"] == "skull":

@@ -383,5 +383,191 @@ TEST(Assign, SparkleIsSpecksNotBroadHighlights) {
     EXPECT_NEAR(sparkleShare(mixed.data(), w, h), 2.0 / total, 1e-6);
 }
 
+// Random layers for k objects and m candidates on a w × h image: each object a coloured Lambert
+// disc at its own depth, each candidate a highlight blob of random place, width and strength
+// (some broad, some narrow) inside it. Enough overlap that every term of the score matters.
+AssignmentLayers randomLayers(int k, int m, int w, int h, uint32_t seed) {
+    uint32_t x = seed;
+    const auto next = [&x] {
+        x = x * 1664525u + 1013904223u;
+        return double(x >> 8) / double(1u << 24);
+    };
+    AssignmentLayers l;
+    SeparationLayers& s = l.scene;
+    s.width = w;
+    s.height = h;
+    const size_t n = size_t(w) * size_t(h);
+    s.backdrop.assign(3 * n, 0.1f);
+    for (int c = 0; c < m; ++c) {
+        l.candidates.push_back("c" + std::to_string(c));
+        l.candidateModels.push_back("m" + std::to_string(c));
+    }
+    for (int o = 0; o < k; ++o) {
+        s.objects.push_back("o" + std::to_string(o));
+        const double cx = next() * w, cy = next() * h, r = 3.0 + next() * w / 3.0;
+        const float colour[3] = {float(0.1 + 0.3 * next()), float(0.1 + 0.3 * next()),
+                                 float(0.1 + 0.3 * next())};
+        std::vector<float> lambert(3 * n, 0.0f), depth(n, 0.0f);
+        const float d = float(1.0 + next());
+        for (int y = 0; y < h; ++y)
+            for (int px = 0; px < w; ++px)
+                if (std::hypot(px - cx, y - cy) < r) {
+                    const size_t i = size_t(y) * size_t(w) + size_t(px);
+                    for (int c = 0; c < 3; ++c) lambert[3 * i + size_t(c)] = colour[c];
+                    depth[i] = d;
+                }
+        s.lambert.push_back(lambert);
+        s.depth.push_back(depth);
+        for (int c = 0; c < m; ++c) {
+            const double hx = cx + (next() - 0.5) * r, hy = cy + (next() - 0.5) * r;
+            const double sigma = 0.5 + next() * 4.0, peak = 0.05 + next();
+            std::vector<float> spec(3 * n, 0.0f);
+            for (int y = 0; y < h; ++y)
+                for (int px = 0; px < w; ++px) {
+                    const size_t i = size_t(y) * size_t(w) + size_t(px);
+                    if (depth[i] == 0.0f) continue;
+                    const double r2 = (px - hx) * (px - hx) + (y - hy) * (y - hy);
+                    const double v = peak * std::exp(-r2 / (2 * sigma * sigma));
+                    if (v > 1e-3)
+                        for (int b = 0; b < 3; ++b) spec[3 * i + size_t(b)] = float(v);
+                }
+            l.specular.push_back(spec);
+        }
+    }
+    return l;
+}
+
+// The sums behind a report can be changed pixel by pixel (what the search does when it swaps an
+// object's candidate): taking out the pixels of one layer and adding them back with another
+// gives the report of the new layers, to rounding.
+TEST(Assign, SumsUpdatedByDifferencesEqualAFullPass) {
+    const AssignmentLayers l = randomLayers(4, 3, 24, 20, 7);
+    for (SeparationMetric metric : {SeparationMetric::Weber, SeparationMetric::Itp}) {
+        const SeparationScorer scorer(
+            l.scene, metric == SeparationMetric::Itp ? kItpThreshold : kWeberContrast, metric);
+        std::vector<const float*> before, after;
+        for (int o = 0; o < 4; ++o) before.push_back(l.layer(o, 0).data());
+        after = before;
+        after[2] = l.layer(2, 1).data();
+        const std::vector<uint32_t> all = {0, 1, 2, 3};
+        SeparationScorer::Sums sums = scorer.emptySums();
+        for (size_t i = 0; i < l.pixelCount(); ++i)
+            scorer.addPixel(i, before, all.data(), all.size(), 1.0, sums);
+        for (size_t i = 0; i < l.pixelCount(); ++i) {
+            scorer.addPixel(i, before, all.data(), all.size(), -1.0, sums);
+            scorer.addPixel(i, after, all.data(), all.size(), 1.0, sums);
+        }
+        const SeparationReport full = scorer.evaluate(after), diff = scorer.report(sums);
+        EXPECT_GT(full.score, 0.0);
+        EXPECT_NEAR(diff.score, full.score, 1e-12);
+        EXPECT_NEAR(diff.highlight, full.highlight, 1e-12);
+        for (size_t o = 0; o < 4; ++o) {
+            EXPECT_NEAR(diff.objects[o].visibility, full.objects[o].visibility, 1e-12);
+            EXPECT_NEAR(diff.objects[o].veiling, full.objects[o].veiling, 1e-12);
+            EXPECT_NEAR(diff.objects[o].identity, full.objects[o].identity, 1e-12);
+            EXPECT_NEAR(diff.objects[o].chroma, full.objects[o].chroma, 1e-9);
+        }
+    }
+}
+
+// The search scores assignments from sums updated object by object; its ranking must be the one
+// of scoring every assignment from scratch.
+TEST(Assign, SearchRanksAsScoringEveryAssignmentFromScratch) {
+    const int k = 4, m = 4;
+    const AssignmentLayers l = randomLayers(k, m, 32, 24, 11);
+    std::vector<ScoredAssignment> all;
+    for (int a = 0; a < m * m * m * m; ++a) {
+        std::vector<int> as = {a % m, a / m % m, a / (m * m) % m, a / (m * m * m)};
+        all.push_back({as, assignmentScore(l, as)});
+    }
+    std::stable_sort(all.begin(), all.end(),
+                     [](const auto& x, const auto& y) { return x.score > y.score; });
+    AssignOptions o;
+    o.top = 5;
+    const AssignResult r = searchAssignments(l, o);
+    ASSERT_TRUE(r.exhaustive);
+    ASSERT_EQ(r.ranked.size(), 5u);
+    for (size_t i = 0; i < 5; ++i) {
+        EXPECT_EQ(r.ranked[i].score, all[i].score) << i;
+        EXPECT_EQ(r.ranked[i].assignment, all[i].assignment) << i;
+    }
+    // The local search from every start agrees with itself and reaches a local optimum: no
+    // single object's change improves its best.
+    o.exhaustiveLimit = 0;
+    const AssignResult local = searchAssignments(l, o);
+    ASSERT_FALSE(local.ranked.empty());
+    const std::vector<int> best = local.ranked[0].assignment;
+    EXPECT_EQ(local.ranked[0].score, assignmentScore(l, best));
+    for (int i = 0; i < k; ++i)
+        for (int c = 0; c < m; ++c) {
+            std::vector<int> other = best;
+            other[size_t(i)] = c;
+            EXPECT_LE(assignmentScore(l, other), local.ranked[0].score + 1e-12);
+        }
+}
+
+// No sparkle in any mode: a candidate whose highlight on an object is specks is not offered,
+// whether it is a default model, a --tune variant or a lobe scaled to equal albedo — even where
+// it would score best — unless the least specky default specks as much there.
+TEST(Assign, SpecklyCandidatesAreNeverChosen) {
+    const int w = 20, h = 20;
+    const size_t n = size_t(w) * size_t(h);
+    AssignmentLayers l;
+    l.scene.width = w;
+    l.scene.height = h;
+    l.scene.objects = {"a", "b"};
+    l.scene.lambert = {std::vector<float>(3 * n, 0.0f), std::vector<float>(3 * n, 0.0f)};
+    l.scene.backdrop.assign(3 * n, 1.0f);
+    // Candidates: 0 broad dim blob (a default), 1 specks bright (a default), 2 the specks scaled
+    // ×0.3 (as --equal-albedo would), 3 a broad blob elsewhere (a --tune variant).
+    l.candidates = {"broad", "specks", "specks albedo", "broad variant"};
+    l.candidateModels = {"m0", "m1", "m1", "m3"};
+    const auto blob = [&](double cx, double cy, double peak) {
+        std::vector<float> v(3 * n, 0.0f);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const double r2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+                for (int c = 0; c < 3; ++c)
+                    v[3 * (size_t(y) * w + size_t(x)) + size_t(c)] =
+                        float(peak * std::exp(-r2 / 8.0));
+            }
+        return v;
+    };
+    const auto specks = [&](int first, double peak) {
+        std::vector<float> v(3 * n, 0.0f);
+        for (int y = first; y < h; y += 4)
+            for (int x = first; x < w; x += 4)
+                for (int c = 0; c < 3; ++c)
+                    v[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = float(peak);
+        return v;
+    };
+    for (int o = 0; o < 2; ++o) {
+        const double shift = o == 0 ? 5.0 : 14.0;
+        l.specular.push_back(blob(shift, shift, 0.3));
+        l.specular.push_back(specks(1 + 2 * o, o == 0 ? 2.0 : 1.5));
+        l.specular.push_back(specks(1 + 2 * o, o == 0 ? 0.6 : 0.45));
+        l.specular.push_back(blob(19.0 - shift, shift, 0.3));
+    }
+    // Without the rule the bright specks win: the two objects' specks never share a pixel.
+    AssignOptions free;
+    const AssignResult unruled = searchAssignments(l, free);
+    ASSERT_FALSE(unruled.ranked.empty());
+    EXPECT_EQ(unruled.ranked[0].assignment, (std::vector<int>{1, 1}));
+    AssignOptions ruled;
+    const std::vector<std::string> notes = excludeSparkle(l, {true, true, false, false}, ruled);
+    EXPECT_EQ(notes.size(), 4u);  // specks and scaled specks, on both objects
+    const AssignResult r = searchAssignments(l, ruled);
+    ASSERT_FALSE(r.ranked.empty());
+    for (const ScoredAssignment& a : r.ranked)
+        for (int c : a.assignment) EXPECT_TRUE(c == 0 || c == 3) << c;
+    // Where every default specks (a structure a few pixels across), nothing is taken away.
+    AssignOptions tiny;
+    EXPECT_TRUE(excludeSparkle(l, {false, true, true, false}, tiny).empty());
+    // A kept object is not judged.
+    AssignOptions kept;
+    kept.fixed = {1, -1};
+    EXPECT_EQ(excludeSparkle(l, {true, true, false, false}, kept).size(), 2u);
+}
+
 }  // namespace
 }  // namespace lobe

@@ -200,7 +200,12 @@ class RenderEqualsCli(Files):
         self.assertEqual(result["best"]["shell"], cli["objects"][0]["brdf"])
         self.assertEqual(result["best"]["core"], cli["objects"][1]["brdf"])
         self.assertTrue(result["exhaustive"])
-        self.assertGreaterEqual(result["ranked"][0]["score"], result["current_score"])
+        # The scene's own models may be among the sparkle rule's exclusions (at 32 pixels wide
+        # highlights are specks); the best ranks above the scene's own only when they are not.
+        own = {o["name"]: o["brdf"]["model"] for o in scene_dict(*self.file_sources())["objects"]}
+        if not any(line.startswith("%s: %s " % item) for item in own.items()
+                   for line in result["not_offered"]):
+            self.assertGreaterEqual(result["ranked"][0]["score"], result["current_score"])
 
 
 class Arrays(Files):
