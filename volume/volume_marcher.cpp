@@ -518,6 +518,7 @@ bool VolumeRaySampler::fillPacket() {
         packetN_ =
             latticePacketTrilinear(lattice_, k_, n, *vol_->dense_, *vol_->tfArrays_, packet_);
     }
+    packets_ += packetN_ > 0 ? 1 : 0;
     return packetN_ > 0;
 }
 

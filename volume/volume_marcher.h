@@ -221,6 +221,8 @@ public:
     // points jumped over by empty-space skipping.
     long long samplesEvaluated() const { return evaluated_; }
     long long samplesSkipped() const { return skipped_; }
+    // Lattice packets computed (DvrSettings::simd; 0 on the scalar path).
+    long long packetsFilled() const { return packets_; }
 
 private:
     // Moves k_ to the first lattice point past the box [lo, lo + size)³ (index space), which
@@ -255,6 +257,7 @@ private:
     LatticePacket packet_;
     long long packetK0_ = 0;
     int packetN_ = 0, packetSize_ = 0;
+    long long packets_ = 0;
 };
 
 }  // namespace lobe
