@@ -84,6 +84,9 @@ int PacketTrilinear(const RayLattice& r, long long k0, int n, const DenseField& 
     const float* base = field.at(field.lo(0), field.lo(1), field.lo(2));
     const int32_t sx = int32_t(field.xStride()), sy = int32_t(field.yStride());
     const auto vsx = hn::Set(di, sx), vsy = hn::Set(di, sy);
+    V first[3];  // the cell of the packet's first point
+    out.sameCell = 0;
+    bool sameSoFar = true;
     for (int b = 0; b < n; b += N) {
         const M valid = hn::FirstN(d, size_t(n - b));
         const V t = LatticeT(d, r, k0 + b);
@@ -100,6 +103,16 @@ int PacketTrilinear(const RayLattice& r, long long k0, int n, const DenseField& 
             rel[a] = hn::Sub(f[a], lo);
         }
         if (!hn::AllTrue(d, hn::Or(hn::Not(valid), holds))) return 0;
+        if (b == 0)
+            for (int a = 0; a < 3; ++a) first[a] = hn::Set(d, hn::GetLane(f[a]));
+        if (sameSoFar) {
+            M same = valid;
+            for (int a = 0; a < 3; ++a) same = hn::And(same, hn::Eq(f[a], first[a]));
+            const intptr_t firstOut = hn::FindFirstTrue(d, hn::Not(same));
+            const int here = firstOut < 0 ? N : int(firstOut);
+            out.sameCell += std::min(here, n - b);
+            sameSoFar = here == N;
+        }
         for (int a = 0; a < 3; ++a) rel[a] = hn::IfThenElseZero(holds, rel[a]);  // lanes past n
         const auto off = hn::Add(
             hn::Add(hn::Mul(hn::DemoteTo(di, rel[0]), vsx), hn::Mul(hn::DemoteTo(di, rel[1]), vsy)),
@@ -151,6 +164,7 @@ int PacketPolynomial(const RayLattice& r, long long k0, int n, const double poly
         m += std::min(here, n - b);
         if (here < N) break;
     }
+    out.sameCell = m;
     return m;
 }
 

@@ -41,6 +41,8 @@ struct LatticePacket {
     alignas(64) double value[kMaxPoints];
     alignas(64) double alpha[kMaxPoints];  // per reference voxel, before the step correction
     alignas(64) double colour[3][kMaxPoints];
+    // How many leading points lie in the voxel cell of the first (floor(p) equal per axis).
+    int sameCell = 0;
 };
 
 // The lattice of one ray: t_k = tEnter + (k + jitter) dt, index-space point o + d t_k.

@@ -333,6 +333,7 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     // Lattice packets: about one voxel of the ray at a time, at most LatticePacket::kMaxPoints;
     // trilinear from the dense copy or the B-spline's ray polynomial, without pre-integration.
     packetN_ = 0;
+    packetSameCell_ = 0;
     packetSize_ = 0;
     const DvrSettings& set = vol_->settings_;
     const bool packetFilter =
@@ -388,7 +389,10 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         }
         const Vec3 p = oIdx_ + dIdx_ * t;
         bool skippable = false;  // this point lies in a transparent brick or cell
-        if (set.emptySpaceSkipping) {
+        // A packet starts at a point found visible; the points after it in the same cell
+        // (floor(p) equal) get the same answer from the tables below, so they skip the test.
+        const bool sameCell = k_ > packetK0_ && k_ - packetK0_ < packetSameCell_;
+        if (set.emptySpaceSkipping && !sameCell) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
             // Points of an edge brick's clamp may lie outside it: their cell is not tested.
@@ -507,6 +511,7 @@ bool VolumeRaySampler::fillPacket() {
         int(std::min<long long>(packetSize_, std::max<long long>(1, (long long)kLast_ + 1 - k_)));
     packetK0_ = k_;
     packetN_ = 0;
+    packetSameCell_ = 0;
     if (rayPolynomial_) {
         const double t = tEnter_ + (double(k_) + jitter_) * dt_;
         double t0;
@@ -518,6 +523,7 @@ bool VolumeRaySampler::fillPacket() {
         packetN_ =
             latticePacketTrilinear(lattice_, k_, n, *vol_->dense_, *vol_->tfArrays_, packet_);
     }
+    packetSameCell_ = packetN_ > 0 ? packet_.sameCell : 0;
     packets_ += packetN_ > 0 ? 1 : 0;
     return packetN_ > 0;
 }

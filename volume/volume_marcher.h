@@ -251,12 +251,14 @@ private:
     long long evaluated_ = 0, skipped_ = 0;
     // Lattice packets (DvrSettings::simd): values and TF of points packetK0_ … + packetN_ − 1,
     // filled when an evaluated point is not in it; packetSize_ points at a time, 0: scalar.
-    // Only values are taken from it: the skipping decisions stay point by point, as above.
+    // The skipping decisions stay point by point, except for the points in the cell of the
+    // packet's first point, which was found visible: their tables give the same answer.
     bool fillPacket();
     RayLattice lattice_{};
     LatticePacket packet_;
     long long packetK0_ = 0;
     int packetN_ = 0, packetSize_ = 0;
+    int packetSameCell_ = 0;  // leading points of the packet in packetK0_'s cell
     long long packets_ = 0;
 };
 
