@@ -55,12 +55,19 @@ HWY_INLINE void TfLookup(D d, V v, const TfArrays& tf, double* alpha, double* c0
             hn::Add(count, hn::IfThenElseZero(hn::Not(hn::Lt(v, hn::Set(d, tf.value[j]))), one));
     const V ia = hn::Max(hn::Sub(count, one), hn::Zero(d));
     const V ib = hn::Min(count, hn::Set(d, double(n - 1)));
+    // Values vary slowly along a ray: usually every lane is on the same piece, whose end points
+    // are then broadcast instead of gathered (the same numbers either way).
+    const double firstCount = hn::GetLane(count);
+    const bool onePiece = hn::AllTrue(d, hn::Eq(count, hn::Set(d, firstCount)));
     const hn::RebindToSigned<D> di;
     const auto ja = hn::ConvertTo(di, ia), jb = hn::ConvertTo(di, ib);
-    const V av = hn::GatherIndex(d, tf.value.data(), ja),
-            bv = hn::GatherIndex(d, tf.value.data(), jb);
-    const V aa = hn::GatherIndex(d, tf.opacity.data(), ja),
-            ba = hn::GatherIndex(d, tf.opacity.data(), jb);
+    const int sa = std::max(int(firstCount) - 1, 0), sb = std::min(int(firstCount), n - 1);
+    auto at = [&](const std::vector<double>& x, bool isA) {
+        return onePiece ? hn::Set(d, x[size_t(isA ? sa : sb)])
+                        : hn::GatherIndex(d, x.data(), isA ? ja : jb);
+    };
+    const V av = at(tf.value, true), bv = at(tf.value, false);
+    const V aa = at(tf.opacity, true), ba = at(tf.opacity, false);
     const M interior = hn::And(hn::Gt(count, hn::Zero(d)), hn::Lt(count, hn::Set(d, double(n))));
     const V s = hn::Div(hn::Sub(v, av), hn::Sub(bv, av));
     const V oneMinusS = hn::Sub(one, s);
@@ -68,8 +75,7 @@ HWY_INLINE void TfLookup(D d, V v, const TfArrays& tf, double* alpha, double* c0
     const std::vector<double>* bands[3] = {&tf.red, &tf.green, &tf.blue};
     double* outs[3] = {c0, c1, c2};
     for (int c = 0; c < 3; ++c) {
-        const V ac = hn::GatherIndex(d, bands[c]->data(), ja);
-        const V bc = hn::GatherIndex(d, bands[c]->data(), jb);
+        const V ac = at(*bands[c], true), bc = at(*bands[c], false);
         const V mix = hn::Add(hn::Mul(ac, oneMinusS), hn::Mul(bc, s));
         hn::StoreU(hn::IfThenElse(interior, mix, bc), d, outs[c]);
     }
@@ -118,12 +124,25 @@ int PacketTrilinear(const RayLattice& r, long long k0, int n, const DenseField& 
             hn::Add(hn::Mul(hn::DemoteTo(di, rel[0]), vsx), hn::Mul(hn::DemoteTo(di, rel[1]), vsy)),
             hn::DemoteTo(di, rel[2]));
         V c[2][2][2];  // [dz][dy][dx], as GridReconstructor::trilinear
-        for (int dz = 0; dz < 2; ++dz)
-            for (int dy = 0; dy < 2; ++dy)
-                for (int dx = 0; dx < 2; ++dx)
-                    c[dz][dy][dx] = hn::PromoteTo(
-                        d, hn::GatherIndex(df, base,
-                                           hn::Add(off, hn::Set(di, dx * sx + dy * sy + dz))));
+        // At fine steps the lanes often share one cell: its 8 voxels are then read once and
+        // broadcast instead of gathered (the same numbers either way).
+        M oneCell = holds;
+        for (int a = 0; a < 3; ++a)
+            oneCell = hn::And(oneCell, hn::Eq(f[a], hn::Set(d, hn::GetLane(f[a]))));
+        if (hn::AllTrue(d, hn::Or(hn::Not(valid), oneCell))) {
+            const float* q = base + hn::GetLane(off);
+            for (int dz = 0; dz < 2; ++dz)
+                for (int dy = 0; dy < 2; ++dy)
+                    for (int dx = 0; dx < 2; ++dx)
+                        c[dz][dy][dx] = hn::Set(d, double(q[dx * sx + dy * sy + dz]));
+        } else {
+            for (int dz = 0; dz < 2; ++dz)
+                for (int dy = 0; dy < 2; ++dy)
+                    for (int dx = 0; dx < 2; ++dx)
+                        c[dz][dy][dx] = hn::PromoteTo(
+                            d, hn::GatherIndex(df, base,
+                                               hn::Add(off, hn::Set(di, dx * sx + dy * sy + dz))));
+        }
         const V c00 = Lerp(c[0][0][0], c[0][0][1], frac[0]),
                 c01 = Lerp(c[0][1][0], c[0][1][1], frac[0]);
         const V c10 = Lerp(c[1][0][0], c[1][0][1], frac[0]),
