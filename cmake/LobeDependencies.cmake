@@ -7,6 +7,8 @@ find_package(embree 3 CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(nlohmann_json 3 CONFIG REQUIRED)
 find_package(ZLIB REQUIRED)
+# Google Highway: portable SIMD with runtime dispatch (volume/dvr_simd.h).
+find_package(hwy CONFIG REQUIRED)
 # cpp-httplib (Debian libcpp-httplib-dev) for `lobe study serve`: Debian builds it as a library
 # (libcpp-httplib.so) whose pkg-config flags select its TLS/compression options; use them.
 find_package(PkgConfig REQUIRED)

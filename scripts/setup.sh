@@ -8,6 +8,7 @@ packages=(
   libembree-dev libopenvdb-dev libnanovdb-dev libboost-iostreams-dev
   libopenimageio-dev openimageio-tools libtbb-dev libimath-dev libjpeg-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev zlib1g-dev
+  libhwy-dev
   libgdcm-dev python3-pydicom python3-nibabel mricron-data
   fonts-dejavu-core libfreetype-dev
   openmpi-bin libopenmpi-dev

@@ -38,6 +38,9 @@ public:
         return data_ +
                (size_t(i - lo_[0]) * xStride_ + size_t(j - lo_[1]) * yStride_ + size_t(k - lo_[2]));
     }
+    // The box's inclusive bounds along axis a (0 = x).
+    int lo(int a) const { return lo_[a]; }
+    int hi(int a) const { return hi_[a]; }
     size_t xStride() const { return xStride_; }
     size_t yStride() const { return yStride_; }
     size_t bytes() const { return bytes_; }

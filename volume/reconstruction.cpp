@@ -249,7 +249,28 @@ double GridReconstructor::bspline(const Vec3& p) {
     return v;
 }
 
+const double* GridReconstructor::rayPolynomial(const Vec3& o, const Vec3& d, double t, double& t0,
+                                               int cell[3]) {
+    ensureRayCell(o, d, t);
+    t0 = ray_.t0;
+    for (int a = 0; a < 3; ++a) cell[a] = ray_.cell[a];
+    return ray_.poly;
+}
+
 double GridReconstructor::bsplineOnRay(const Vec3& o, const Vec3& d, double t) {
+    ensureRayCell(o, d, t);
+    const RayCell& r = ray_;
+    // Estrin's scheme: a tree of depth 4 instead of Horner's chain of 9 multiply-adds (the
+    // chain's latency, not its arithmetic, was the cost of a sample). volume/dvr_simd.cpp does
+    // the same operations for a packet of lattice points.
+    const double s = t - r.t0, s2 = s * s, s4 = s2 * s2;
+    const double* c = r.poly;
+    const double p01 = c[0] + c[1] * s, p23 = c[2] + c[3] * s, p45 = c[4] + c[5] * s,
+                 p67 = c[6] + c[7] * s, p89 = c[8] + c[9] * s;
+    return (p01 + p23 * s2) + (p45 + p67 * s2) * s4 + p89 * (s4 * s4);
+}
+
+void GridReconstructor::ensureRayCell(const Vec3& o, const Vec3& d, double t) {
     const Vec3 p = o + d * t;
     const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
     const openvdb::Coord cell{int(fx), int(fy), int(fz)};
@@ -300,13 +321,6 @@ double GridReconstructor::bsplineOnRay(const Vec3& o, const Vec3& d, double t) {
         r.t0 = t;
         r.valid = true;
     }
-    // Estrin's scheme: a tree of depth 4 instead of Horner's chain of 9 multiply-adds (the
-    // chain's latency, not its arithmetic, was the cost of a sample).
-    const double s = t - r.t0, s2 = s * s, s4 = s2 * s2;
-    const double* c = r.poly;
-    const double p01 = c[0] + c[1] * s, p23 = c[2] + c[3] * s, p45 = c[4] + c[5] * s,
-                 p67 = c[6] + c[7] * s, p89 = c[8] + c[9] * s;
-    return (p01 + p23 * s2) + (p45 + p67 * s2) * s4 + p89 * (s4 * s4);
 }
 
 Vec3 GridReconstructor::centralDifferences(const Vec3& p) {

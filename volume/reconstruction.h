@@ -106,6 +106,9 @@ public:
     // bspline() costs ~90. Worth it from ~7 samples a cell (steps below ~0.1 voxel). Equal to
     // bspline(o + d·t) up to rounding (~1e-13 of the block's values; tested).
     double bsplineOnRay(const Vec3& o, const Vec3& d, double t);
+    // bsplineOnRay's polynomial for the cell of o + d·t, built as bsplineOnRay builds it (or
+    // kept): its 10 coefficients in powers of (t − t0), and the cell's integer corner.
+    const double* rayPolynomial(const Vec3& o, const Vec3& d, double t, double& t0, int cell[3]);
     // Drops bsplineOnRay's polynomial (the next call builds one).
     void forgetRay() { ray_.valid = false; }
     // Value and index-space gradient with the chosen filter and gradient method; the value of the
@@ -117,6 +120,8 @@ private:
     using Block = float[4][16];
     // The block at (i, j, k), from the cache when it is the last one asked for.
     const Block& block(int i, int j, int k);
+    // Builds bsplineOnRay's polynomial for the cell of o + d·t unless it holds it already.
+    void ensureRayCell(const Vec3& o, const Vec3& d, double t);
     // Reads the block leaf by leaf.
     void gather4(int i, int j, int k, Block& f);
 

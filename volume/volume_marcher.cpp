@@ -215,6 +215,7 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     });
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
+    tfArrays_ = std::make_shared<const TfArrays>(tf_);
 }
 
 void DvrVolume::computeClearance() {
@@ -329,6 +330,26 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
                      stepVoxels_ < kRayPolynomialStep;
     kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
+    // Lattice packets: about one voxel of the ray at a time, at most LatticePacket::kMaxPoints;
+    // trilinear from the dense copy or the B-spline's ray polynomial, without pre-integration.
+    packetN_ = 0;
+    packetSameCell_ = 0;
+    packetSize_ = 0;
+    const DvrSettings& set = vol_->settings_;
+    const bool packetFilter =
+        (set.reconstruction == Reconstruction::kTrilinear && vol_->dense_) || rayPolynomial_;
+    if (set.simd && !simdDisabledByEnvironment() && !vol_->pre_ && packetFilter) {
+        const double perVoxel = std::floor(1.0 / stepVoxels_);
+        if (perVoxel >= LatticePacket::kMinPoints)
+            packetSize_ = int(std::min<double>(perVoxel, LatticePacket::kMaxPoints));
+        for (int a = 0; a < 3; ++a) {
+            lattice_.o[a] = oIdx_[a];
+            lattice_.d[a] = dIdx_[a];
+        }
+        lattice_.tEnter = tEnter_;
+        lattice_.jitter = jitter_;
+        lattice_.dt = dt_;
+    }
     active_ = true;
     return true;
 }
@@ -368,7 +389,10 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         }
         const Vec3 p = oIdx_ + dIdx_ * t;
         bool skippable = false;  // this point lies in a transparent brick or cell
-        if (set.emptySpaceSkipping) {
+        // A packet starts at a point found visible; the points after it in the same cell
+        // (floor(p) equal) get the same answer from the tables below, so they skip the test.
+        const bool sameCell = k_ > packetK0_ && k_ - packetK0_ < packetSameCell_;
+        if (set.emptySpaceSkipping && !sameCell) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
             // Points of an edge brick's clamp may lie outside it: their cell is not tested.
@@ -418,8 +442,11 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             }
         }
         ++evaluated_;
-        const double value = rayPolynomial_ ? recon_.bsplineOnRay(oIdx_, dIdx_, t)
-                                            : recon_.value(set.reconstruction, p);
+        const bool fromPacket =
+            packetSize_ > 0 && (k_ - packetK0_ < packetN_ && k_ >= packetK0_ ? true : fillPacket());
+        const double value = fromPacket       ? packet_.value[k_ - packetK0_]
+                             : rayPolynomial_ ? recon_.bsplineOnRay(oIdx_, dIdx_, t)
+                                              : recon_.value(set.reconstruction, p);
         double alpha;
         Spectrum colour;
         if (pre) {
@@ -449,7 +476,13 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             return true;
         } else {
             double alphaVoxel;
-            v.tf_.evaluate(value, alphaVoxel, colour);
+            if (fromPacket) {
+                const int i = int(k_ - packetK0_);
+                alphaVoxel = packet_.alpha[i];
+                colour = Spectrum(packet_.colour[0][i], packet_.colour[1][i], packet_.colour[2][i]);
+            } else {
+                v.tf_.evaluate(value, alphaVoxel, colour);
+            }
             ++k_;
             if (!(alphaVoxel > 0.0)) continue;
             if (set.mask && !set.mask->keeps(v.geometry_.indexToWorld(p))) continue;
@@ -470,6 +503,29 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         if (withNormal) addNormal(s);
         return true;
     }
+}
+
+bool VolumeRaySampler::fillPacket() {
+    // Points k_ … on to the last one inside the domain, at most packetSize_ of them.
+    const int n =
+        int(std::min<long long>(packetSize_, std::max<long long>(1, (long long)kLast_ + 1 - k_)));
+    packetK0_ = k_;
+    packetN_ = 0;
+    packetSameCell_ = 0;
+    if (rayPolynomial_) {
+        const double t = tEnter_ + (double(k_) + jitter_) * dt_;
+        double t0;
+        int cell[3];
+        const double* poly = recon_.rayPolynomial(oIdx_, dIdx_, t, t0, cell);
+        packetN_ =
+            latticePacketPolynomial(lattice_, k_, n, poly, t0, cell, *vol_->tfArrays_, packet_);
+    } else {
+        packetN_ =
+            latticePacketTrilinear(lattice_, k_, n, *vol_->dense_, *vol_->tfArrays_, packet_);
+    }
+    packetSameCell_ = packetN_ > 0 ? packet_.sameCell : 0;
+    packets_ += packetN_ > 0 ? 1 : 0;
+    return packetN_ > 0;
 }
 
 void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {

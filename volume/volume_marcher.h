@@ -68,6 +68,7 @@
 #include "core/clip.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
+#include "volume/dvr_simd.h"
 #include "volume/pre_integration.h"
 #include "volume/reconstruction.h"
 #include "volume/transfer_function.h"
@@ -99,6 +100,11 @@ struct DvrSettings {
     // A mask (volume/volume_mask.h): samples where it does not keep the object are transparent.
     // Tested only for samples the transfer function makes visible, so skipping is unchanged.
     std::shared_ptr<const VolumeMask> mask;
+    // Lattice packets (volume/dvr_simd.h): at steps below 1/4 voxel, trilinear values from the
+    // dense copy and the B-spline's ray polynomial are computed for up to 16 consecutive lattice
+    // points at once with SIMD — the same bits as one by one. false (or LOBE_SIMD=off in the
+    // environment) keeps the scalar path, the reference.
+    bool simd = true;
 };
 
 struct VolumeSample {
@@ -152,6 +158,7 @@ private:
     bool empty_ = true;
     std::shared_ptr<const DenseField> dense_;
     std::shared_ptr<const PreIntegratedTf> pre_;  // when settings_.preIntegrated
+    std::shared_ptr<const TfArrays> tfArrays_;    // the TF for lattice packets
     Vec3 domainLo_{0.0}, domainHi_{0.0};          // index space, continuous
     int brickLo_[3] = {0, 0, 0};                  // index of brick (0,0,0)'s first voxel
     int brickCount_[3] = {0, 0, 0};
@@ -214,6 +221,8 @@ public:
     // points jumped over by empty-space skipping.
     long long samplesEvaluated() const { return evaluated_; }
     long long samplesSkipped() const { return skipped_; }
+    // Lattice packets computed (DvrSettings::simd; 0 on the scalar path).
+    long long packetsFilled() const { return packets_; }
 
 private:
     // Moves k_ to the first lattice point past the box [lo, lo + size)³ (index space), which
@@ -240,6 +249,17 @@ private:
     ClipIntervals clip_;  // kept intervals of the ray (DvrSettings::clip), when clipped
     int clipIndex_ = 0;
     long long evaluated_ = 0, skipped_ = 0;
+    // Lattice packets (DvrSettings::simd): values and TF of points packetK0_ … + packetN_ − 1,
+    // filled when an evaluated point is not in it; packetSize_ points at a time, 0: scalar.
+    // The skipping decisions stay point by point, except for the points in the cell of the
+    // packet's first point, which was found visible: their tables give the same answer.
+    bool fillPacket();
+    RayLattice lattice_{};
+    LatticePacket packet_;
+    long long packetK0_ = 0;
+    int packetN_ = 0, packetSize_ = 0;
+    int packetSameCell_ = 0;  // leading points of the packet in packetK0_'s cell
+    long long packets_ = 0;
 };
 
 }  // namespace lobe

@@ -1,0 +1,193 @@
+// Lattice packets (volume/dvr_simd.h) against the scalar path and closed forms. The stated
+// tolerance is zero: the packet kernels perform the scalar path's IEEE operations in the same
+// order, so every sample must come back with the same bits (t, value, opacity, colour, normal),
+// with the packet path really taken (packetsFilled > 0) on the SIMD target the CPU offers.
+#include "core/rng.h"
+#include "dvr_test_grids.h"
+#include "volume/dvr_simd.h"
+#include "volume/volume_marcher.h"
+
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <string>
+
+namespace lobe {
+namespace {
+
+using openvdb::Coord;
+
+// A bumpy blob, so that values vary within a cell and between cells.
+openvdb::FloatGrid::Ptr bumpyBlob() {
+    return test::makeGrid(
+        [](int i, int j, int k) {
+            const double r2 =
+                (i - 16.0) * (i - 16.0) + (j - 16.0) * (j - 16.0) + (k - 16.0) * (k - 16.0);
+            return std::exp(-r2 / 60.0) * (1.0 + 0.2 * std::sin(0.9 * i + 0.4 * j - 0.7 * k));
+        },
+        Coord(0), Coord(32));
+}
+
+// Several pieces, a step (two points at one value) and a plateau: every branch of the lookup.
+TransferFunction pieces() {
+    return TransferFunction({{0.15, 0.0, Spectrum(0.1, 0.2, 0.9)},
+                             {0.3, 0.05, Spectrum(0.2, 0.8, 0.1)},
+                             {0.5, 0.05, Spectrum(0.9, 0.5, 0.2)},
+                             {0.5, 0.4, Spectrum(1.0, 0.1, 0.1)},
+                             {0.8, 0.6, Spectrum(0.7, 0.7, 0.7)}});
+}
+
+// Marches 200 random rays through the blob with the packet path on and off and requires equal
+// samples; returns the number of packets the SIMD path computed.
+long long expectPacketsChangeNoSample(Reconstruction rec, double step, bool skipping) {
+    const auto grid = bumpyBlob();
+    DvrSettings on, off;
+    on.reconstruction = off.reconstruction = rec;
+    on.gradient = off.gradient = rec == Reconstruction::kCubicBSpline
+                                     ? GradientMethod::kBSplineDerivative
+                                     : GradientMethod::kCentralDifferences;
+    on.stepVoxels = off.stepVoxels = step;
+    on.emptySpaceSkipping = off.emptySpaceSkipping = skipping;
+    off.simd = false;
+    const DvrVolume vOn(grid, pieces(), on), vOff(grid, pieces(), off);
+    VolumeRaySampler a(vOn), b(vOff);  // reused across rays, as the renderer does
+    long long samples = 0;
+    for (int n = 0; n < 200; ++n) {
+        Rng rng(5, n);
+        const Vec3 dir =
+            normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+        Ray ray;
+        ray.o = Vec3(16) +
+                6.0 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) -
+                40.0 * dir;
+        ray.d = dir;
+        const double jitter = rng.uniform();
+        EXPECT_EQ(a.begin(ray, jitter), b.begin(ray, jitter));
+        VolumeSample sa, sb;
+        // Segments end at arbitrary depths (as surfaces cut a ray): the packet must survive them.
+        double tEnd = 30.0 + 10.0 * rng.uniform();
+        for (;;) {
+            const bool ha = a.next(tEnd, sa), hb = b.next(tEnd, sb);
+            EXPECT_EQ(ha, hb);
+            if (ha != hb) return -1;
+            if (!ha) {
+                if (tEnd > 1e3) break;
+                tEnd = 1e30;
+                continue;
+            }
+            ++samples;
+            EXPECT_EQ(sa.t, sb.t);
+            EXPECT_EQ(sa.value, sb.value);
+            EXPECT_EQ(sa.alpha, sb.alpha);
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(sa.colour[c], sb.colour[c]);
+            EXPECT_EQ(sa.hasNormal, sb.hasNormal);
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(sa.normal[c], sb.normal[c]);
+        }
+    }
+    EXPECT_GT(samples, 2000);
+    EXPECT_EQ(a.samplesEvaluated(), b.samplesEvaluated());
+    EXPECT_EQ(a.samplesSkipped(), b.samplesSkipped());
+    EXPECT_EQ(b.packetsFilled(), 0);
+    return a.packetsFilled();
+}
+
+TEST(DvrSimd, TrilinearPacketsGiveTheScalarSamplesBitForBit) {
+    std::printf("lattice packets on %s\n", latticePacketTarget());
+    for (bool skipping : {true, false})
+        for (double step : {0.05, 0.1, 0.2})
+            EXPECT_GT(expectPacketsChangeNoSample(Reconstruction::kTrilinear, step, skipping), 100)
+                << step;
+}
+
+TEST(DvrSimd, BSplineRayPolynomialPacketsGiveTheScalarSamplesBitForBit) {
+    // The ray polynomial is used below 0.075 voxels (volume_marcher.cpp, kRayPolynomialStep).
+    for (bool skipping : {true, false})
+        for (double step : {0.02, 0.05, 0.07})
+            EXPECT_GT(expectPacketsChangeNoSample(Reconstruction::kCubicBSpline, step, skipping),
+                      100)
+                << step;
+}
+
+TEST(DvrSimd, EveryTargetGivesTheScalarSamples) {
+    // Each SIMD target this CPU runs (AVX-512, AVX2, SSE4, plain C++), chosen in turn.
+    std::set<std::string> names;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        names.insert(latticePacketTarget());
+        EXPECT_STREQ(latticePacketTarget(), hwy::TargetName(target));
+        EXPECT_GT(expectPacketsChangeNoSample(Reconstruction::kTrilinear, 0.05, true), 100);
+        EXPECT_GT(expectPacketsChangeNoSample(Reconstruction::kCubicBSpline, 0.05, true), 100);
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    EXPECT_EQ(names.size(), hwy::SupportedAndGeneratedTargets().size());
+    EXPECT_GE(names.size(), 2u);  // at least a SIMD target and the plain C++ one on x86-64
+}
+
+TEST(DvrSimd, CoarseStepsAndOtherFiltersStayScalar) {
+    // One point per voxel or more: packets would run past what stops the ray (dvr_simd.h).
+    EXPECT_EQ(expectPacketsChangeNoSample(Reconstruction::kTrilinear, 0.5, true), 0);
+    EXPECT_EQ(expectPacketsChangeNoSample(Reconstruction::kCubicBSpline, 0.1, true), 0);
+    EXPECT_EQ(expectPacketsChangeNoSample(Reconstruction::kNearest, 0.05, true), 0);
+}
+
+TEST(DvrSimd, TrilinearPacketReproducesALinearFieldAndTheTfLookup) {
+    // Trilinear reconstruction is exact for f = 0.01 i + 0.02 j + 0.03 k (Marschner & Lobb
+    // 1994); the TF at each value is TransferFunction::evaluate's.
+    const auto grid = test::makeGrid(
+        [](int i, int j, int k) { return 0.01 * i + 0.02 * j + 0.03 * k; }, Coord(0), Coord(15));
+    const DenseField field(*grid, openvdb::CoordBBox(Coord(0), Coord(15)));
+    const TransferFunction tf = pieces();
+    const TfArrays arrays(tf);
+    RayLattice ray{{1.3, 2.1, 0.7}, {0.9, 0.3, 0.6}, 0.0, 0.25, 0.1};
+    LatticePacket out;
+    ASSERT_EQ(latticePacketTrilinear(ray, 3, 16, field, arrays, out), 16);
+    for (int i = 0; i < 16; ++i) {
+        const double t = ray.tEnter + (double(3 + i) + ray.jitter) * ray.dt;
+        const double x = ray.o[0] + ray.d[0] * t, y = ray.o[1] + ray.d[1] * t,
+                     z = ray.o[2] + ray.d[2] * t;
+        EXPECT_NEAR(out.value[i], 0.01 * x + 0.02 * y + 0.03 * z, 1e-7);  // float voxels
+        double a;
+        Spectrum c;
+        tf.evaluate(out.value[i], a, c);
+        EXPECT_EQ(out.alpha[i], a);
+        for (int b = 0; b < 3; ++b) EXPECT_EQ(out.colour[b][i], c[b]);
+    }
+    // Values below the first point, between, at the step (the right limit wins) and above.
+    const auto flat = [](double v) {
+        return test::makeGrid([v](int, int, int) { return v; }, Coord(0), Coord(3));
+    };
+    for (double v : {0.0, 0.2, 0.5, 0.65, 0.9}) {
+        const auto g = flat(v);
+        const DenseField f(*g, openvdb::CoordBBox(Coord(0), Coord(3)));
+        RayLattice r{{0.5, 0.5, 0.5}, {1.0, 0.0, 0.0}, 0.0, 0.0, 0.1};
+        ASSERT_EQ(latticePacketTrilinear(r, 0, 4, f, arrays, out), 4);
+        double a;
+        Spectrum c;
+        tf.evaluate(double(float(v)), a, c);
+        EXPECT_EQ(out.alpha[0], a) << v;
+        EXPECT_EQ(out.colour[0][3], c[0]) << v;
+    }
+    // A footprint leaving the dense box: no packet (the caller reads the tree).
+    RayLattice outside{{13.5, 1.5, 1.5}, {1.0, 0.0, 0.0}, 0.0, 0.0, 0.5};
+    EXPECT_EQ(latticePacketTrilinear(outside, 0, 4, field, arrays, out), 0);
+}
+
+TEST(DvrSimd, PolynomialPacketStopsAtTheCellExit) {
+    // f(t) = 1 + t (coefficients of (t − t0)^j with t0 = 0): values are exact; the ray leaves
+    // cell (0, 0, 0) at x = 1, i.e. t = 0.75 for o.x = 0.25, d.x = 1: points t = 0.05 … 0.7
+    // (k = 0 … 13 at Δt = 0.05, ξ = 0) lie in it, k = 14 (t = 0.75) does not.
+    const double poly[10] = {1.0, 1.0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const int cell[3] = {0, 0, 0};
+    const TfArrays arrays(pieces());
+    RayLattice ray{{0.25, 0.5, 0.5}, {1.0, 0.0, 0.0}, 0.05, 0.0, 0.05};
+    LatticePacket out;
+    EXPECT_EQ(latticePacketPolynomial(ray, 0, 16, poly, 0.0, cell, arrays, out), 14);
+    for (int i = 0; i < 14; ++i) EXPECT_NEAR(out.value[i], 1.05 + 0.05 * i, 1e-14);
+    EXPECT_EQ(latticePacketPolynomial(ray, 0, 5, poly, 0.0, cell, arrays, out), 5);
+}
+
+}  // namespace
+}  // namespace lobe
