@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/temporary_file.h"
 #include "volume/dicom_file.h"
 #include "volume/gaussian_blur.h"
 #include "volume/vdb_size_check.h"
@@ -15,7 +16,6 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -408,7 +408,9 @@ void writeVdb(const Volume& volume, const std::string& path, const std::string& 
     out->insertMeta(kMetaValueScale, openvdb::DoubleMetadata(volume.valueScale));
     out->insertMeta(kMetaBackground, openvdb::DoubleMetadata(volume.background));
 
-    const std::string temp = path + ".tmp" + std::to_string(::getpid());
+    // Named after this host and process (core/temporary_file.h), so a run killed while writing
+    // leaves a file the next run into the folder recognises and removes.
+    const std::string temp = temporarySibling(path);
     const RemovedOnInterrupt guard(temp);
     // Through a stream of our own: openvdb::io::File does not report a short write (a full disk
     // left a truncated .vdb and exit 0), the stream's state does, and close() flushes.
