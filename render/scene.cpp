@@ -45,10 +45,16 @@ TangentAxes worldAxes(const ObjectSpec& spec) {
 
 bool isLabelSource(const VolumeSourceSpec& s) { return !s.labels.empty(); }
 
+// A label source's map: the one the parser loaded (an array's lives only there), else the file's
+// from the per-process memo.
+std::shared_ptr<const LabelMap> labelMapOf(const VolumeSourceSpec& s) {
+    return s.labelMap ? s.labelMap : loadLabelMap(s.path);
+}
+
 // Everything a loaded volume depends on. A label map is the file alone (loaded once per process,
 // volume/labels.h): every label object of it shares one entry.
 std::string sourceKey(const VolumeSourceSpec& s) {
-    if (isLabelSource(s)) return "labels|" + s.path;
+    if (isLabelSource(s)) return "labels|" + (s.array ? "array:" + s.array->name : s.path);
     char numbers[256];
     std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g",
                   int(s.divideByMax), s.divideByPercentile, s.divideBy, s.background, s.blurFwhmMm,
@@ -85,7 +91,7 @@ Volume loadSource(const VolumeSourceSpec& s) {
 }
 
 std::shared_ptr<const Volume> loadShared(const VolumeSourceSpec& s) {
-    if (isLabelSource(s)) return loadLabelMap(s.path)->volume;
+    if (isLabelSource(s)) return labelMapOf(s)->volume;
     return std::make_shared<const Volume>(loadSource(s));
 }
 
@@ -244,7 +250,7 @@ openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform
 openvdb::FloatGrid::Ptr objectGrid(const ObjectSpec& object, const Volume& volume,
                                    const std::string& context) {
     if (object.source.labels.empty()) return placeInWorld(volume, object.transform, context);
-    const std::shared_ptr<const LabelMap> map = loadLabelMap(object.source.path);
+    const std::shared_ptr<const LabelMap> map = labelMapOf(object.source);
     const openvdb::FloatGrid::Ptr grid =
         object.kind == ObjectSpec::Kind::IsoSurface
             ? labelSurfaceField(*map, object.source.labels, object.source.labelSmooth)
@@ -275,8 +281,8 @@ void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
 void growByObjectBox(const ObjectSpec& object, const openvdb::FloatGrid& placed, Vec3& lo,
                      Vec3& hi) {
     if (object.source.labels.empty()) return growByGridBox(placed, lo, hi);
-    growByIndexBox(placed.transform(),
-                   loadLabelMap(object.source.path)->boxOf(object.source.labels), lo, hi);
+    growByIndexBox(placed.transform(), labelMapOf(object.source)->boxOf(object.source.labels), lo,
+                   hi);
 }
 
 }  // namespace

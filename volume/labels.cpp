@@ -87,6 +87,11 @@ std::shared_ptr<const LabelMap> loadLabelMap(const std::string& path) {
     return maps.at(path);
 }
 
+std::shared_ptr<const LabelMap> loadLabelMap(const VolumeArray& array) {
+    auto volume = std::make_shared<const Volume>(loadArray(array));
+    return std::make_shared<const LabelMap>(indexLabelMap(volume));
+}
+
 namespace {
 
 // The grid holding `values` (dims n, x fastest, first voxel at `lo`) with the map's transform;
