@@ -35,9 +35,10 @@ inline double gridWorldScale(const openvdb::GridBase& grid) {
     return meta ? meta->value() : 1.0;
 }
 
-// Whether `s` is a world scale Lobe writes: a finite positive power of two.
+// Whether `s` is a world scale Lobe writes: a power of two in [2^-340, 2^-9] (setGridWorldMap's
+// for voxels of 1e-300 … 1e-9 units³; GridGeometry refuses smaller ones).
 inline bool validWorldScale(double s) {
-    if (!(s > 0.0) || !std::isfinite(s)) return false;
+    if (!(s >= std::ldexp(1.0, -340) && s <= std::ldexp(1.0, -9))) return false;
     int e = 0;
     return std::frexp(s, &e) == 0.5;
 }

@@ -308,7 +308,7 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     if ((*grid)[kMetaWorldScale] && (!grid->getMetadata<openvdb::DoubleMetadata>(kMetaWorldScale) ||
                                      !validWorldScale(gridWorldScale(*grid))))
         throw Error(path + ": metadata " + kMetaWorldScale +
-                    " is not a positive power of two (a double)");
+                    " is not a power of two in [2^-340, 2^-9] (a double)");
 
     // Further scaling asked for now composes with what the file already holds.
     const double extra =

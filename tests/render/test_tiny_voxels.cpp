@@ -218,14 +218,17 @@ TEST(TinyVoxelMaps, VdbRoundTripKeepsTheWorldScale) {
     EXPECT_EQ(volumeContentHash(back), volumeContentHash(v));
     // A damaged scale is refused by name.
     openvdb::FloatGrid::Ptr bad = back.grid->deepCopy();
-    bad->insertMeta(kMetaWorldScale, openvdb::DoubleMetadata(3e-6));
-    const std::string badPath = (dataDir() / "bad-scale.vdb").string();
-    openvdb::io::File(badPath).write({bad});
-    try {
-        loadVdb(badPath);
-        ADD_FAILURE() << "a scale of 3e-6 was accepted";
-    } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("lobe_world_scale"), std::string::npos) << e.what();
+    for (const double scale : {3e-6, 1.0, -std::ldexp(1.0, -17), std::ldexp(1.0, -1000)}) {
+        bad->insertMeta(kMetaWorldScale, openvdb::DoubleMetadata(scale));
+        const std::string badPath = (dataDir() / "bad-scale.vdb").string();
+        openvdb::io::File(badPath).write({bad});
+        try {
+            loadVdb(badPath);
+            ADD_FAILURE() << "a scale of " << scale << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("lobe_world_scale"), std::string::npos)
+                << e.what();
+        }
     }
 }
 
