@@ -6,6 +6,7 @@
 // `lobe convert` shares.
 #include "apps/commands.h"
 #include "core/error.h"
+#include "volume/grid_world.h"
 #include "volume/label_table.h"
 #include "volume/labels.h"
 #include "volume/volume_summary.h"
@@ -117,7 +118,6 @@ void printVolumeSummary(const VolumeSummary& s) {
 void printLabels(const std::string& path, const std::string& tablePath) {
     const std::shared_ptr<const LabelMap> map = loadLabelMap(path);
     const LabelTable table = tablePath.empty() ? tableBeside(path) : readLabelTable(tablePath);
-    const openvdb::math::Transform& xf = map->volume->grid->transform();
     std::printf("label map       %s\n", path.c_str());
     std::printf("label table     %s\n", table.empty() ? "none" : table.source.c_str());
     std::printf("labels present  %zu\n", map->labels.size());
@@ -128,7 +128,7 @@ void printLabels(const std::string& path, const std::string& tablePath) {
             const openvdb::Vec3d idx((c & 1) ? info.box.max().x() + 0.5 : info.box.min().x() - 0.5,
                                      (c & 2) ? info.box.max().y() + 0.5 : info.box.min().y() - 0.5,
                                      (c & 4) ? info.box.max().z() + 0.5 : info.box.min().z() - 0.5);
-            const openvdb::Vec3d w = xf.indexToWorld(idx);
+            const openvdb::Vec3d w = gridIndexToWorld(*map->volume->grid, idx);
             for (int a = 0; a < 3; ++a) {
                 lo[a] = std::min(lo[a], w[a]);
                 hi[a] = std::max(hi[a], w[a]);

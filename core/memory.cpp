@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 namespace lobe {
@@ -67,7 +68,21 @@ double cgroupMemoryLimit(const std::string& procSelfCgroup, const std::string& r
     return least;
 }
 
+namespace {
+std::mutex g_budgetMutex;
+MemoryBudget g_fixedBudget;  // bytes 0: none
+}  // namespace
+
+void setMemoryBudget(const MemoryBudget& budget) {
+    std::lock_guard<std::mutex> lock(g_budgetMutex);
+    g_fixedBudget = budget;
+}
+
 MemoryBudget memoryBudget() {
+    {
+        std::lock_guard<std::mutex> lock(g_budgetMutex);
+        if (g_fixedBudget.bytes > 0.0) return g_fixedBudget;
+    }
     MemoryBudget budget;
     const auto consider = [&](double bytes, const std::string& source) {
         if (bytes > 0.0 && (budget.bytes == 0.0 || bytes < budget.bytes)) {

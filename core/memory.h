@@ -21,6 +21,11 @@ struct MemoryBudget {
         source;  // "physical memory", "ulimit -v (RLIMIT_AS)", "the cgroup's memory.max", ...
 };
 MemoryBudget memoryBudget();
+// Makes memoryBudget() return `budget` from now on, whatever the machine (bytes 0: measure
+// again). For the fuzz targets (fuzz/fuzz_common.h): what an input may allocate, and the code
+// that finds the limit, must not depend on the machine's memory, its cgroup or the process's
+// environment, or a fixed-count run explores other inputs elsewhere.
+void setMemoryBudget(const MemoryBudget& budget);
 
 // The cgroup memory limit found from a /proc/self/cgroup text and the cgroup file-system root
 // (normally "/sys/fs/cgroup"): the least limit on the process's cgroup and its ancestors, v2

@@ -220,9 +220,19 @@ Json toJson(py::handle value, const std::string& name, const std::string& at,
     if (py::isinstance<py::dict>(value)) {
         Json out = Json::object();
         for (auto item : value.cast<py::dict>()) {
-            if (!py::isinstance<py::str>(item.first))
-                fail(name, at, "keys must be strings, got a " + typeName(item.first));
-            const std::string key = item.first.cast<std::string>();
+            // Whole numbers as keys are their decimal text, as JSON writes them: a label table
+            // {37: "Hippocampus_L"} or overrides by label number.
+            // (NumPy integers too: labels from np.unique).
+            const bool number = !py::isinstance<py::str>(item.first) &&
+                                PyIndex_Check(item.first.ptr()) &&
+                                !py::isinstance<py::bool_>(item.first);
+            if (!py::isinstance<py::str>(item.first) && !number)
+                fail(name, at,
+                     "keys must be strings or whole numbers, got a " + typeName(item.first));
+            const std::string key =
+                number
+                    ? std::string(py::str(py::int_(py::reinterpret_borrow<py::object>(item.first))))
+                    : item.first.cast<std::string>();
             out[key] = toJson(item.second, name, at.empty() ? key : at + "." + key, memory);
         }
         return out;

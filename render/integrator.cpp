@@ -6,6 +6,7 @@
 #include "render/shading.h"
 #include "render/shadow_cache.h"
 #include "surface/surface_scene.h"
+#include "volume/grid_world.h"
 
 #include <algorithm>
 #include <cmath>
@@ -75,7 +76,7 @@ void Integrator::resetCaches() {
             lo[a] = std::min(lo[a], b.lo[a]);
             hi[a] = std::max(hi[a], b.hi[a]);
         }
-        const openvdb::Vec3d v = vo.volume->grid().voxelSize();
+        const openvdb::Vec3d v = gridVoxelSize(vo.volume->grid());
         voxel = std::min(voxel, std::min(v.x(), std::min(v.y(), v.z())));
     }
     if (!(lo.x <= hi.x) || !std::isfinite(voxel)) return;

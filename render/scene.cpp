@@ -10,6 +10,7 @@
 #include "surface/iso_mesh.h"
 #include "surface/surface_scene.h"
 #include "volume/gaussian_blur.h"
+#include "volume/grid_world.h"
 #include "volume/labels.h"
 #include "volume/volume.h"
 #include "volume/volume_marcher.h"
@@ -46,10 +47,16 @@ TangentAxes worldAxes(const ObjectSpec& spec) {
 
 bool isLabelSource(const VolumeSourceSpec& s) { return !s.labels.empty(); }
 
+// A label source's map: the one the parser loaded (an array's lives only there), else the file's
+// from the per-process memo.
+std::shared_ptr<const LabelMap> labelMapOf(const VolumeSourceSpec& s) {
+    return s.labelMap ? s.labelMap : loadLabelMap(s.path);
+}
+
 // Everything a loaded volume depends on. A label map is the file alone (loaded once per process,
 // volume/labels.h): every label object of it shares one entry.
 std::string sourceKey(const VolumeSourceSpec& s) {
-    if (isLabelSource(s)) return "labels|" + s.path;
+    if (isLabelSource(s)) return "labels|" + (s.array ? "array:" + s.array->name : s.path);
     char numbers[256];
     std::snprintf(numbers, sizeof numbers, "|%d|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g|%.17g",
                   int(s.divideByMax), s.divideByPercentile, s.divideBy, s.background, s.blurFwhmMm,
@@ -86,7 +93,7 @@ Volume loadSource(const VolumeSourceSpec& s) {
 }
 
 std::shared_ptr<const Volume> loadShared(const VolumeSourceSpec& s) {
-    if (isLabelSource(s)) return loadLabelMap(s.path)->volume;
+    if (isLabelSource(s)) return labelMapOf(s)->volume;
     return std::make_shared<const Volume>(loadSource(s));
 }
 
@@ -209,27 +216,23 @@ namespace {
 // transform, so the grid maps index → scene world directly.
 openvdb::FloatGrid::Ptr placeInWorld(const openvdb::FloatGrid::Ptr& source,
                                      const ObjectTransform& t, const std::string& context) {
-    const openvdb::math::AffineMap::Ptr affine = source->transform().baseMap()->getAffineMap();
-    if (!affine) throw Error(context + ": the volume's transform is not affine");
+    if (!source->transform().isLinear())
+        throw Error(context + ": the volume's transform is not affine");
     // OpenVDB multiplies row vectors (world = index · M): the object map in that form.
     openvdb::math::Mat4d object = openvdb::math::Mat4d::identity();
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) object[r][c] = t.linear[c][r];
     for (int c = 0; c < 3; ++c) object[3][c] = t.translation[c];
-    const openvdb::math::Mat4d total = affine->getMat4() * object;
+    // The volume's full map (its world scale included) followed by the object's. The scene's
+    // check of the transform is relative (core/math.h, nearlySingular): a scale of 1e-5 on 1 mm
+    // voxels is a map OpenVDB refuses (det < 3e-15), given to the grid rescaled
+    // (volume/grid_world.h).
+    const openvdb::math::Mat4d total = gridWorldMatrix(*source) * object;
     openvdb::FloatGrid::Ptr grid = source->copy();  // shares the tree
     try {
-        grid->setTransform(openvdb::math::Transform::createLinearTransform(total));
-    } catch (const openvdb::Exception&) {
-        // OpenVDB refuses a map whose determinant (voxel volume in world units³) is below
-        // 3e-15 whatever its conditioning (openvdb/math/Maps.h, AffineMap): a scale of 1e-5
-        // on 1 mm voxels. The scene's own check is relative (core/math.h, nearlySingular).
-        char det[32];
-        std::snprintf(det, sizeof det, "%.3g", total.det());
-        throw Error(context + ": the transform makes a voxel " + det +
-                    " world units³, smaller "
-                    "than OpenVDB's maps allow (3e-15): give the scene in larger units (e.g. µm "
-                    "instead of mm: scale the transform, camera and lights alike)");
+        setGridWorldMap(*grid, total);
+    } catch (const openvdb::Exception& e) {
+        throw Error(context + ": the transform's map is not usable (" + e.what() + ")");
     }
     return grid;
 }
@@ -245,7 +248,7 @@ openvdb::FloatGrid::Ptr placeInWorld(const Volume& volume, const ObjectTransform
 openvdb::FloatGrid::Ptr objectGrid(const ObjectSpec& object, const Volume& volume,
                                    const std::string& context) {
     if (object.source.labels.empty()) return placeInWorld(volume, object.transform, context);
-    const std::shared_ptr<const LabelMap> map = loadLabelMap(object.source.path);
+    const std::shared_ptr<const LabelMap> map = labelMapOf(object.source);
     const openvdb::FloatGrid::Ptr grid =
         object.kind == ObjectSpec::Kind::IsoSurface
             ? labelSurfaceField(*map, object.source.labels, object.source.labelSmooth)
@@ -254,14 +257,14 @@ openvdb::FloatGrid::Ptr objectGrid(const ObjectSpec& object, const Volume& volum
 }
 
 // World bounding box of an index box of voxels (their centres ± half a voxel).
-void growByIndexBox(const openvdb::math::Transform& transform, const openvdb::CoordBBox& box,
-                    Vec3& lo, Vec3& hi) {
+void growByIndexBox(const openvdb::GridBase& grid, const openvdb::CoordBBox& box, Vec3& lo,
+                    Vec3& hi) {
     if (box.empty()) return;
     for (int corner = 0; corner < 8; ++corner) {
         const openvdb::Vec3d idx((corner & 1) ? box.max().x() + 0.5 : box.min().x() - 0.5,
                                  (corner & 2) ? box.max().y() + 0.5 : box.min().y() - 0.5,
                                  (corner & 4) ? box.max().z() + 0.5 : box.min().z() - 0.5);
-        const openvdb::Vec3d w = transform.indexToWorld(idx);
+        const openvdb::Vec3d w = gridIndexToWorld(grid, idx);
         lo = Vec3(std::min(lo.x, w.x()), std::min(lo.y, w.y()), std::min(lo.z, w.z()));
         hi = Vec3(std::max(hi.x, w.x()), std::max(hi.y, w.y()), std::max(hi.z, w.z()));
     }
@@ -269,15 +272,14 @@ void growByIndexBox(const openvdb::math::Transform& transform, const openvdb::Co
 
 // World bounding box of a grid's active voxels.
 void growByGridBox(const openvdb::FloatGrid& grid, Vec3& lo, Vec3& hi) {
-    growByIndexBox(grid.transform(), grid.evalActiveVoxelBoundingBox(), lo, hi);
+    growByIndexBox(grid, grid.evalActiveVoxelBoundingBox(), lo, hi);
 }
 
 // An object's world box (framing.h): its active voxels', or for a label object its labels' voxels'.
 void growByObjectBox(const ObjectSpec& object, const openvdb::FloatGrid& placed, Vec3& lo,
                      Vec3& hi) {
     if (object.source.labels.empty()) return growByGridBox(placed, lo, hi);
-    growByIndexBox(placed.transform(),
-                   loadLabelMap(object.source.path)->boxOf(object.source.labels), lo, hi);
+    growByIndexBox(placed, labelMapOf(object.source)->boxOf(object.source.labels), lo, hi);
 }
 
 }  // namespace
@@ -474,7 +476,7 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
             so.tangent = tangent;
             if (object.isoNormals == "bspline") {
                 so.smoothGrid = grids[i];
-                so.smoothGeometry = GridGeometry(grids[i]->transform(), context);
+                so.smoothGeometry = GridGeometry(*grids[i], context);
             }
             so.clip = clip;
             for (const ClipShape& c : clip) so.caps = so.caps || c.cap;
@@ -582,7 +584,7 @@ void Scene::placeView() {
 
 bool SceneSurface::inside(const Vec3& x) const {
     if (!field) return false;
-    const openvdb::Vec3d u = field->transform().worldToIndex(openvdb::Vec3d(x.x, x.y, x.z));
+    const openvdb::Vec3d u = gridWorldToIndex(*field, openvdb::Vec3d(x.x, x.y, x.z));
     const double v = openvdb::tools::BoxSampler::sample(field->tree(), u);
     return (insideBelow ? v < iso : v > iso) && (!mask || mask->keeps(x));
 }

@@ -20,6 +20,8 @@
 
 namespace lobe {
 
+struct LabelMap;  // volume/labels.h
+
 // Where an object's voxels come from and how their values are mapped before use.
 struct VolumeSourceSpec {
     std::string path;                              // resolved (relative to the scene file's folder)
@@ -43,6 +45,10 @@ struct VolumeSourceSpec {
     // In place of a file: an array in memory ("array": NAME, resolved by parseScene from the
     // arrays it is given — the Python module's; render/scene_file.h). path is empty then.
     std::shared_ptr<const VolumeArray> array;
+    // A label source's map, loaded and indexed when the scene is read (its labels and names
+    // are checked then): a file's from the per-process memo by path, an array's its own (it
+    // lives as long as the scene that holds it).
+    std::shared_ptr<const LabelMap> labelMap;
 };
 
 // Object-to-world map: world = linear · p + translation, p in the volume's own world space

@@ -174,19 +174,34 @@ std::string unreachable(const std::string& p) {
 
 // `segmentation`: the source of a "kind": "segmentation" object, a label map whose labels the
 // object lists (its own "labels" key), so label_table and label_smooth need no source.labels.
-VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentation = false) {
+// Where a source's names lead: the scene file's folder, and the arrays in memory it may name (the
+// Python module's; none for a scene file).
+struct SourceContext {
+    std::string baseDir;
+    const SceneArrays* arrays = nullptr;
+};
+
+VolumeSourceSpec readSource(Reader r, const SourceContext& context, bool segmentation = false) {
+    const std::string& baseDir = context.baseDir;
     VolumeSourceSpec s;
-    // "array": an array in memory instead of a file (the Python module); parseScene resolves the
-    // name. The file keys describe a file's layout: an array has its own.
+    // "array": an array in memory instead of a file (the Python module), bound now by its name
+    // (a label map's labels and names are checked against it below). The file keys describe a
+    // file's layout: an array has its own.
     if (r.has("array")) {
-        auto named = std::make_shared<VolumeArray>();
-        named->name = r.requiredString("array");
+        const std::string name = r.requiredString("array");
         for (const char* key : {"path", "series", "dims", "type", "endian", "spacing"})
             if (r.has(key))
                 r.fail(r.at(key),
                        "not with \"array\" (an array in memory has its own size, type "
                        "and affine)");
-        s.array = named;
+        if (!context.arrays)
+            r.fail(r.at("array"),
+                   "arrays in memory are given through the Python module (lobe.Scene, "
+                   "docs/python.md); a scene file names its data in \"path\"");
+        const auto it = context.arrays->find(name);
+        if (it == context.arrays->end() || !it->second)
+            r.fail(r.at("array"), "no array named '" + name + "'");
+        s.array = it->second;
     } else if (r.has("path") && r.raw("path").is_array()) {
         // "path": one file or folder; or an array of files, the slices of one DICOM series.
         const Json& list = r.raw("path");
@@ -261,13 +276,21 @@ VolumeSourceSpec readSource(Reader r, const std::string& baseDir, bool segmentat
                        "header format: .nii, .nii.gz, .mgh, .mgz, .nhdr, .vdb)");
         if (!s.morePaths.empty()) r.fail(r.at("path"), "a label map is one file");
         s.labelSmooth = r.number("label_smooth", kLabelSmoothDefault, 0.0, 4.0);
+        const char* mapKey = s.array ? "array" : "path";
+        std::shared_ptr<const LabelMap> map;
+        try {
+            map = s.array ? loadLabelMap(*s.array) : loadLabelMap(s.path);
+        } catch (const Error& e) {
+            r.fail(r.at(mapKey), e.what());
+        }
         LabelSource labels;
         try {
-            labels = openLabelSource(s.path, r.has("label_table") ? &r.raw("label_table") : nullptr,
-                                     baseDir);
+            labels = openLabelSource(
+                map, s.path, r.has("label_table") ? &r.raw("label_table") : nullptr, baseDir);
         } catch (const Error& e) {
-            r.fail(r.at(r.has("label_table") ? "label_table" : "path"), e.what());
+            r.fail(r.at(r.has("label_table") ? "label_table" : mapKey), e.what());
         }
+        s.labelMap = labels.map;
         s.labelTable = labels.table.source;
         if (r.has("labels")) {
             try {
@@ -503,14 +526,14 @@ void readSurfaceKeys(Reader& r, ObjectSpec& o) {
     o.opacity = r.number("opacity", 1.0, 0.0, 1.0);
 }
 
-ObjectSpec readObject(Reader r, const std::string& baseDir) {
+ObjectSpec readObject(Reader r, const SourceContext& context) {
     ObjectSpec o;
     o.name = r.string("name", r.path());
     const std::string kind = r.string("kind", "", {"isosurface", "volume", "segmentation"});
     if (kind.empty()) r.fail(r.at("kind"), "missing (isosurface, volume or segmentation)");
     o.kind = kind == "volume" ? ObjectSpec::Kind::Volume : ObjectSpec::Kind::IsoSurface;
     if (!r.has("source")) r.fail(r.at("source"), "missing");
-    o.source = readSource(r.child("source"), baseDir);
+    o.source = readSource(r.child("source"), context);
     readLook(r, o, "missing ({\"model\": NAME, parameters...})");
     if (o.kind == ObjectSpec::Kind::IsoSurface && !o.source.labels.empty()) {
         // The surface of a label set is its anti-aliased indicator's 0.5 level (volume/labels.h).
@@ -541,7 +564,7 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
         o.mask.enabled = true;
         if (!m.has("source"))
             m.fail(m.at("source"), "missing (the mask's volume, as an object's source)");
-        o.mask.source = readSource(m.child("source"), baseDir);
+        o.mask.source = readSource(m.child("source"), context);
         if (!m.has("iso"))
             m.fail(m.at("iso"), "missing (the object exists where the mask's value is above it)");
         o.mask.iso = m.number("iso", 0.5, -1e12, 1e12);
@@ -554,20 +577,20 @@ ObjectSpec readObject(Reader r, const std::string& baseDir) {
 
 // "kind": "segmentation": one iso-surface object per label of a label map, named and coloured
 // from its label table, with per-label "overrides" by name (docs/scene-format.md, "Labels").
-void readSegmentation(Reader r, const std::string& baseDir, std::vector<ObjectSpec>& out) {
+void readSegmentation(Reader r, const SourceContext& context, std::vector<ObjectSpec>& out) {
     r.string("kind", "");
     const std::string where = r.path();
     const std::string prefix = r.string("name", "");
     if (!r.has("source")) r.fail(r.at("source"), "missing (the label map)");
     ObjectSpec base;
     base.kind = ObjectSpec::Kind::IsoSurface;
-    base.source = readSource(r.child("source"), baseDir, true);
+    base.source = readSource(r.child("source"), context, true);
     base.segmentation = where;
-    // The map (loaded once) and the table readSource accepted, for the names and colours.
+    // The map readSource loaded and the table it accepted, for the names and colours.
     const Json& sourceJson = r.raw("source");
     const LabelSource named = openLabelSource(
-        base.source.path, sourceJson.contains("label_table") ? &sourceJson["label_table"] : nullptr,
-        baseDir);
+        base.source.labelMap, base.source.path,
+        sourceJson.contains("label_table") ? &sourceJson["label_table"] : nullptr, context.baseDir);
     if (!r.has("labels"))
         r.fail(r.at("labels"), "missing (\"all\" or a list of label numbers or names)");
     std::vector<int> ids;
@@ -987,12 +1010,13 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
     if (objects.size() > kMaxObjects)
         r.fail("objects", std::to_string(objects.size()) + " objects; a scene holds at most " +
                               std::to_string(kMaxObjects));
+    const SourceContext context{baseDir, arrays};
     for (size_t i = 0; i < objects.size(); ++i) {
         const Reader o(objects[i], "objects[" + std::to_string(i) + "]", name);
         if (objects[i].contains("kind") && objects[i]["kind"] == "segmentation")
-            readSegmentation(o, baseDir, scene.objects);
+            readSegmentation(o, context, scene.objects);
         else
-            scene.objects.push_back(readObject(o, baseDir));
+            scene.objects.push_back(readObject(o, context));
     }
     if (scene.objects.size() > kMaxObjects)
         r.fail("objects", "the segmentations expand to " + std::to_string(scene.objects.size()) +
@@ -1001,7 +1025,9 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         std::map<std::pair<std::string, int>, size_t> claimed;
         for (size_t i = 0; i < scene.objects.size(); ++i)
             for (int id : scene.objects[i].source.labels) {
-                const auto key = std::make_pair(scene.objects[i].source.path, id);
+                const VolumeSourceSpec& source = scene.objects[i].source;
+                const auto key =
+                    std::make_pair(source.array ? source.array->name : source.path, id);
                 const auto [it, fresh] = claimed.emplace(key, i);
                 if (!fresh)
                     r.fail("objects", "'" + scene.objects[it->second].name + "' and '" +
@@ -1009,18 +1035,6 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
                                           std::to_string(id) + " of " + key.first +
                                           " (a label belongs to one object)");
             }
-    }
-    for (size_t i = 0; i < scene.objects.size(); ++i) {  // in-memory sources by name
-        std::shared_ptr<const VolumeArray>& array = scene.objects[i].source.array;
-        if (!array) continue;
-        const std::string at = "objects[" + std::to_string(i) + "].source.array";
-        if (!arrays)
-            r.fail(at,
-                   "arrays in memory are given through the Python module (lobe.Scene, "
-                   "docs/python.md); a scene file names its data in \"path\"");
-        const auto it = arrays->find(array->name);
-        if (it == arrays->end() || !it->second) r.fail(at, "no array named '" + array->name + "'");
-        array = it->second;
     }
     std::vector<std::string> named = scene.fit.objects;
     named.insert(named.end(), scene.zoom.objects.begin(), scene.zoom.objects.end());

@@ -85,8 +85,13 @@ LabelTable sceneTable(const Json& t) {
 
 LabelSource openLabelSource(const std::string& mapPath, const Json* tableValue,
                             const std::string& baseDir) {
+    return openLabelSource(loadLabelMap(mapPath), mapPath, tableValue, baseDir);
+}
+
+LabelSource openLabelSource(std::shared_ptr<const LabelMap> map, const std::string& mapPath,
+                            const Json* tableValue, const std::string& baseDir) {
     LabelSource s;
-    s.map = loadLabelMap(mapPath);
+    s.map = std::move(map);
     if (tableValue) {
         if (tableValue->is_string()) {
             const std::filesystem::path p(tableValue->get<std::string>());
@@ -101,7 +106,7 @@ LabelSource openLabelSource(const std::string& mapPath, const Json* tableValue,
                 "label_table: expected a table file or an object {\"37\": \"name\", …}, got " +
                 tableValue->dump());
         }
-    } else {
+    } else if (!mapPath.empty()) {
         s.table = tableBeside(mapPath);
     }
     if (!s.table.empty()) {
@@ -113,8 +118,8 @@ LabelSource openLabelSource(const std::string& mapPath, const Json* tableValue,
         if (!missing.empty()) {
             const size_t n = missing.size();
             if (n > 8) missing.resize(8);
-            throw Error("the label table " + s.table.source + " does not match the map " + mapPath +
-                        ": " + std::to_string(n) + " of the map's " +
+            throw Error("the label table " + s.table.source + " does not match the map " +
+                        s.map->path + ": " + std::to_string(n) + " of the map's " +
                         std::to_string(s.map->labels.size()) + " labels are not in it (" +
                         joinInts(missing) + (n > 8 ? ", …" : "") + "); the table lists " +
                         std::to_string(s.table.entries.size()) + " labels from " +

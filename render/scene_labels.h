@@ -28,6 +28,10 @@ struct LabelSource {
 // table cannot be read, or the table does not match the map (a label of the map it does not list).
 LabelSource openLabelSource(const std::string& mapPath, const nlohmann::json* tableValue,
                             const std::string& baseDir);
+// The same for a map already loaded (an array's, volume/labels.h): no table is looked for beside
+// it when `mapPath` is empty.
+LabelSource openLabelSource(std::shared_ptr<const LabelMap> map, const std::string& mapPath,
+                            const nlohmann::json* tableValue, const std::string& baseDir);
 
 // The label ids a "labels" value names: a number or name, or an array of them (and "all", the
 // labels present, when allowAll). Throws for a label not present (naming the nearest present

@@ -15,6 +15,14 @@
 #     it and agreed without it), so a commit tests the same
 #     inputs on any machine, however fast or busy. It prints each target's count and a digest of
 #     the inputs it kept (libFuzzer names them by content), which two runs can compare.
+#     The volume readers' coverage also depended on the process's addresses: a few edges in
+#     inlined library code (shared_ptr and string clean-up in OpenVDB's and the standard
+#     library's headers) were taken or not with the stack's and libraries' placement, so runs
+#     kept other inputs under ASLR and with environments of other sizes. So each target runs
+#     with address-space randomisation off (setarch -R) and the same process image everywhere:
+#     an empty environment but for fixed sanitizer options, and argv, the executable's name and
+#     the suppressions file given by fixed relative names inside the target's scratch folder
+#     (the checkout's and the build's paths differ in length from machine to machine).
 # An input that crashes, trips a sanitizer, throws anything but lobe::Error or runs over the
 # per-input limit (-timeout: 10 s when fuzzing; 120 s in --runs mode, where it only guards
 # against a hang, since no finding may depend on speed) is saved under BUILD/fuzz-findings/ and
@@ -47,7 +55,7 @@ for t in "${targets[@]}"; do
     limits=(-max_total_time="$mode" -timeout=10 ${FUZZ_SEED:+-seed=$FUZZ_SEED})
     echo "fuzz_$t: ${mode} s"
   fi
-  mkdir -p "$corpus" "$work/run"
+  mkdir -p "$corpus" "$work/run" "$work/findings"
   # Each run in a folder of its own: the NRRD target's data files are found beside the header.
   # OpenVDB leaks the node it was reading when a read fails inside a tree's topology (RootNode::
   # readTopology: `new ChildT` before the child's read, which throws at the end of the file), so
@@ -56,10 +64,31 @@ for t in "${targets[@]}"; do
   # buffer, is virtual memory only; the harness refuses beyond 16 GB, fuzz/fuzz_vdb.cpp.)
   rss=2560
   [[ $t == vdb ]] && rss=12288
-  if ! (cd "$work/run" && "$build/fuzz/fuzz_$t" "${limits[@]}" \
-          -rss_limit_mb=$rss -max_len=65536 -print_final_stats=1 \
-          -artifact_prefix="$build/fuzz-findings/$t-" "$corpus" "$here/fuzz/corpus/$t" \
-          >"$build/fuzz-findings/$t.log" 2>&1); then
+  if [[ $mode == --runs ]]; then
+    ln -s "$build/fuzz/fuzz_$t" "$work/fuzz_$t"
+    ln -s "$here/fuzz/corpus/$t" "$work/seeds"
+    cp "$here/fuzz/ubsan.supp" "$work/ubsan.supp"
+    run=(env -i PATH=/usr/bin:/bin
+         ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:allocator_may_return_null=1:alloc_dealloc_mismatch=0
+         UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:suppressions=../ubsan.supp)
+    if setarch "$(uname -m)" -R true 2>/dev/null; then
+      run+=(setarch "$(uname -m)" -R)
+    else
+      echo "fuzz_$t: note: setarch -R is not permitted here; addresses are randomised, so the" \
+           "digest may differ from other machines'" >&2
+    fi
+    run+=("../fuzz_$t" "${limits[@]}" -rss_limit_mb=$rss -max_len=65536 -print_final_stats=1
+          -artifact_prefix=../findings/ ../corpus ../seeds)
+  else
+    run=("$build/fuzz/fuzz_$t" "${limits[@]}" -rss_limit_mb=$rss -max_len=65536
+         -print_final_stats=1 -artifact_prefix="$work/findings/" "$corpus" "$here/fuzz/corpus/$t")
+  fi
+  status_t=0
+  (cd "$work/run" && "${run[@]}" >"$build/fuzz-findings/$t.log" 2>&1) || status_t=1
+  for f in "$work/findings"/*; do
+    if [[ -e $f ]]; then mv "$f" "$build/fuzz-findings/$t-$(basename "$f")"; fi
+  done
+  if [[ $status_t != 0 ]]; then
     echo "fuzz_$t: FOUND an input that fails (see $build/fuzz-findings/$t.log)" >&2
     tail -30 "$build/fuzz-findings/$t.log" >&2
     status=1

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "volume/grid_world.h"
 
 #include <openvdb/math/Transform.h>
 
@@ -95,6 +96,27 @@ struct AffineMap {
             for (int r = 0; r < 3; ++r) linear.m[r][c] = col[r];
         }
         return fromMatrix(linear, Vec3(o[0], o[1], o[2]), what);
+    }
+
+    // A grid's full map: its transform times its world scale (volume/grid_world.h; a power of
+    // two, so the product is exact).
+    static AffineMap fromGrid(const openvdb::GridBase& grid,
+                              const std::string& what = "grid transform") {
+        const double s = gridWorldScale(grid);
+        if (s == 1.0) return fromTransform(grid.transform(), what);
+        const openvdb::math::Transform& xform = grid.transform();
+        if (!xform.isLinear())
+            throw Error(what + ": only affine (linear) transforms are supported, not '" +
+                        xform.mapType() + "'");
+        const openvdb::Vec3d o = xform.indexToWorld(openvdb::Vec3d(0, 0, 0));
+        Mat3 linear;
+        for (int c = 0; c < 3; ++c) {
+            openvdb::Vec3d e(0, 0, 0);
+            e[c] = 1.0;
+            const openvdb::Vec3d col = xform.indexToWorld(e) - o;
+            for (int r = 0; r < 3; ++r) linear.m[r][c] = col[r] * s;
+        }
+        return fromMatrix(linear, Vec3(o[0] * s, o[1] * s, o[2] * s), what);
     }
 };
 

@@ -49,7 +49,7 @@ bool storedIndexBox(const openvdb::FloatTree& tree, openvdb::CoordBBox& box) {
 
 IsoExactSurface::IsoExactSurface(const openvdb::FloatGrid& grid, double iso,
                                  const std::string& name)
-    : iso_(iso), map_(AffineMap::fromTransform(grid.transform(), name)) {
+    : iso_(iso), map_(AffineMap::fromGrid(grid, name)) {
     if (!std::isfinite(iso)) throw Error(name + ": iso value must be finite");
     const openvdb::FloatTree& tree = grid.tree();
     if (!std::isfinite(tree.background())) throw Error(name + ": background value is not finite");

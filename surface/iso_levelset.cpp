@@ -38,15 +38,18 @@ std::shared_ptr<LevelSetSurface> LevelSetSurface::fromDensity(const openvdb::Flo
                                                               const LevelSetOptions& options,
                                                               const std::string& name) {
     if (!std::isfinite(iso)) throw Error(name + ": iso value must be finite");
-    AffineMap::fromTransform(density.transform(), name);  // refuses a non-affine transform
+    AffineMap::fromGrid(density, name);  // refuses a non-affine transform
     if (!(options.halfWidth >= 1.0) || !std::isfinite(options.halfWidth))
         throw Error(name + ": the level set's half width must be at least 1 voxel");
     if (options.smoothIterations < 0 || options.smoothIterations > 1000)
         throw Error(name + ": the level set's smoothing iterations must be 0 … 1000");
     if (!(options.voxelSize >= 0.0) || !std::isfinite(options.voxelSize))
         throw Error(name + ": the level set's voxel size must be finite and not negative");
+    // Built in the density transform's own world: the density's world scale (tiny voxels,
+    // volume/grid_world.h) divides the voxel size asked for in scene units and is the level set's.
+    const double worldScale = gridWorldScale(density);
     openvdb::math::Transform::Ptr xform = density.transform().copy();
-    double voxelSize = options.voxelSize;
+    double voxelSize = options.voxelSize / worldScale;
     if (voxelSize == 0.0 && options.smoothIterations > 0 && !xform->hasUniformScale()) {
         // OpenVDB's level-set filters need cubic voxels: the source's smallest side.
         const openvdb::Vec3d side = xform->voxelSize();
@@ -58,7 +61,7 @@ std::shared_ptr<LevelSetSurface> LevelSetSurface::fromDensity(const openvdb::Flo
         const openvdb::BBoxd world = density.transform().indexToWorld(box);
         const openvdb::Vec3d extent = world.extents() / voxelSize;
         checkFits(extent.x() * extent.y() * extent.z() * sizeof(float),
-                  name + ": a level set at voxel size " + std::to_string(voxelSize));
+                  name + ": a level set at voxel size " + std::to_string(voxelSize * worldScale));
         xform = openvdb::math::Transform::createLinearTransform(voxelSize);
     }
     // The distance: unsigned, to the iso-surface's mesh (volumeToMesh at adaptivity 0, as the
@@ -90,6 +93,7 @@ std::shared_ptr<LevelSetSurface> LevelSetSurface::fromDensity(const openvdb::Flo
     }
     openvdb::tools::signedFloodFill(phi->tree());
     phi->setGridClass(openvdb::GRID_LEVEL_SET);
+    if (worldScale != 1.0) phi->insertMeta(kMetaWorldScale, openvdb::DoubleMetadata(worldScale));
     if (options.smoothIterations > 0) {
         openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*phi);
         for (int i = 0; i < options.smoothIterations; ++i) filter.meanCurvature();
@@ -98,7 +102,7 @@ std::shared_ptr<LevelSetSurface> LevelSetSurface::fromDensity(const openvdb::Flo
 }
 
 LevelSetSurface::LevelSetSurface(openvdb::FloatGrid::ConstPtr levelSet, const std::string& name)
-    : phi_(std::move(levelSet)), map_(AffineMap::fromTransform(phi_->transform(), name)) {
+    : phi_(std::move(levelSet)), map_(AffineMap::fromGrid(*phi_, name)) {
     const openvdb::FloatTree& tree = phi_->tree();
     if (!std::isfinite(tree.background()))
         throw Error(name + ": the level set's background value is not finite");

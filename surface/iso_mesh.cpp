@@ -16,7 +16,7 @@ namespace lobe {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 IsoMeshSurface::IsoMeshSurface(const openvdb::FloatGrid& grid, double iso, const std::string& name)
-    : iso_(iso), map_(AffineMap::fromTransform(grid.transform(), name)), grid_(grid.copy()) {
+    : iso_(iso), map_(AffineMap::fromGrid(grid, name)), grid_(grid.copy()) {
     if (!std::isfinite(iso)) throw Error(name + ": iso value must be finite");
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
@@ -24,10 +24,13 @@ IsoMeshSurface::IsoMeshSurface(const openvdb::FloatGrid& grid, double iso, const
     // Adaptivity 0: no simplification, so the mesh error is the method's, not the decimation's.
     openvdb::tools::volumeToMesh(grid, points, triangles, quads, iso, 0.0);
     vertices_.reserve(points.size() * 3);
+    // volumeToMesh's vertices are in the grid transform's world: times the world scale of tiny
+    // voxels (volume/grid_world.h; a power of two, exact).
+    const float s = float(gridWorldScale(grid));
     for (const openvdb::Vec3s& p : points) {
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
             throw Error(name + ": volumeToMesh produced a non-finite vertex (non-finite voxels?)");
-        vertices_.insert(vertices_.end(), {p[0], p[1], p[2]});
+        vertices_.insert(vertices_.end(), {p[0] * s, p[1] * s, p[2] * s});
     }
     quads_.reserve((quads.size() + triangles.size()) * 4);
     for (const openvdb::Vec4I& q : quads) quads_.insert(quads_.end(), {q[0], q[1], q[2], q[3]});

@@ -1,6 +1,7 @@
 #include "volume/gaussian_blur.h"
 
 #include "core/error.h"
+#include "volume/grid_world.h"
 
 #include <openvdb/tools/Dense.h>
 #include <tbb/parallel_for.h>
@@ -64,7 +65,8 @@ void gaussianBlurFwhm(Volume& volume, double fwhm) {
     for (int a = 0; a < 3; ++a) {
         openvdb::Vec3d e(0.0);
         e[a] = 1.0;
-        axes[a] = xf.indexToWorld(e) - xf.indexToWorld(openvdb::Vec3d(0.0));
+        axes[a] =
+            gridIndexToWorld(*volume.grid, e) - gridIndexToWorld(*volume.grid, openvdb::Vec3d(0.0));
     }
     for (int a = 0; a < 3; ++a)
         for (int b = a + 1; b < 3; ++b)
@@ -90,6 +92,8 @@ void gaussianBlurFwhm(Volume& volume, double fwhm) {
 
     openvdb::FloatGrid::Ptr blurred = openvdb::FloatGrid::create(0.0f);
     blurred->setTransform(xf.copy());
+    if (const auto scale = volume.grid->getMetadata<openvdb::DoubleMetadata>(kMetaWorldScale))
+        blurred->insertMeta(kMetaWorldScale, *scale);
     blurred->setName(volume.grid->getName());
     blurred->setGridClass(volume.grid->getGridClass());
     {

@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "volume/gaussian_blur.h"
+#include "volume/grid_world.h"
 
 #include <algorithm>
 #include <cmath>
@@ -87,6 +88,11 @@ std::shared_ptr<const LabelMap> loadLabelMap(const std::string& path) {
     return maps.at(path);
 }
 
+std::shared_ptr<const LabelMap> loadLabelMap(const VolumeArray& array) {
+    auto volume = std::make_shared<const Volume>(loadArray(array));
+    return std::make_shared<const LabelMap>(indexLabelMap(volume));
+}
+
 namespace {
 
 // The grid holding `values` (dims n, x fastest, first voxel at `lo`) with the map's transform;
@@ -96,6 +102,8 @@ openvdb::FloatGrid::Ptr gridOf(const LabelMap& map, const std::vector<float>& va
                                const std::array<int, 3>& n, const openvdb::Coord& lo) {
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
     grid->setTransform(map.volume->grid->transform().copy());
+    if (const auto scale = map.volume->grid->getMetadata<openvdb::DoubleMetadata>(kMetaWorldScale))
+        grid->insertMeta(kMetaWorldScale, *scale);  // tiny voxels (volume/grid_world.h)
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     auto acc = grid->getAccessor();
     for (int k = 0; k < n[2]; ++k)

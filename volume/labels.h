@@ -63,6 +63,10 @@ LabelMap indexLabelMap(std::shared_ptr<const Volume> volume);
 // The map of `path` loaded (default load options) and indexed, once per process: later calls
 // return the same map.
 std::shared_ptr<const LabelMap> loadLabelMap(const std::string& path);
+// The map of an array in memory (volume/volume_array.h; the Python module), loaded as loadArray
+// does with default options and indexed. Not memoised: whoever holds the array holds the map
+// (render/scene_description.h, VolumeSourceSpec::labelMap).
+std::shared_ptr<const LabelMap> loadLabelMap(const VolumeArray& array);
 
 // The indicator of `ids`: 1 on their voxels (active), nothing stored elsewhere. Same transform.
 openvdb::FloatGrid::Ptr labelMask(const LabelMap& map, const std::vector<int>& ids);

@@ -1,6 +1,7 @@
 #include "volume/reconstruction.h"
 
 #include "core/error.h"
+#include "volume/grid_world.h"
 
 #include <Imath/ImathMatrix.h>
 
@@ -45,6 +46,20 @@ GridGeometry::GridGeometry(const openvdb::math::Transform& transform, const std:
             jInv_[r][c] = inv[r][c];
         }
     refLength_ = std::cbrt(std::abs(det));
+}
+
+GridGeometry::GridGeometry(const openvdb::GridBase& grid, const std::string& name)
+    : GridGeometry(grid.transform(), name) {
+    const double s = gridWorldScale(grid);
+    if (s == 1.0) return;
+    // World = s · (J · index + origin): exact for a power of two s.
+    origin_ = origin_ * s;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            j_[r][c] *= s;
+            jInv_[r][c] /= s;
+        }
+    refLength_ *= s;
 }
 
 Vec3 GridGeometry::indexToWorld(const Vec3& p) const {

@@ -60,6 +60,9 @@ public:
     // Throws lobe::Error naming `name` when the grid's transform is not linear or is singular.
     explicit GridGeometry(const openvdb::math::Transform& transform,
                           const std::string& name = "volume");
+    // The grid's full map: its transform times its world scale (volume/grid_world.h: grids of
+    // tiny voxels keep a power-of-two scale OpenVDB's maps do not hold).
+    explicit GridGeometry(const openvdb::GridBase& grid, const std::string& name = "volume");
 
     Vec3 indexToWorld(const Vec3& p) const;
     Vec3 worldToIndex(const Vec3& p) const;

@@ -5,8 +5,10 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/temporary_file.h"
 #include "volume/dicom_file.h"
 #include "volume/gaussian_blur.h"
+#include "volume/grid_world.h"
 #include "volume/vdb_size_check.h"
 #include "volume/volume_file.h"
 #include "volume/volume_summary.h"
@@ -15,7 +17,6 @@
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -143,17 +144,12 @@ Volume buildVolume(detail::DenseVolume&& dense, const std::string& path,
         for (int col = 0; col < 3; ++col) m[col][row] = dense.affine[row][col];
         m[3][row] = dense.affine[row][3];
     }
+    // The header's map passed the relative test (core/math.h, nearlySingular); tiny voxels
+    // (1e-5 mm) are rescaled for OpenVDB and their scale kept beside (volume/grid_world.h).
     try {
-        volume.grid->setTransform(openvdb::math::Transform::createLinearTransform(m));
+        setGridWorldMap(*volume.grid, m);
     } catch (const openvdb::Exception& e) {
-        // OpenVDB refuses a map whose determinant is below 3e-15 whatever its conditioning
-        // (openvdb/math/Maps.h, AffineMap); the header's own map passed the relative test
-        // (core/math.h, nearlySingular), so this is the voxels' absolute size.
-        char size[32];
-        std::snprintf(size, sizeof size, "%.3g", std::abs(m.det()));
-        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() +
-                    "): a voxel of " + size +
-                    " world units³ is smaller than OpenVDB's maps allow (3e-15)");
+        throw Error(path + ": the voxel-to-world map is not usable (" + e.what() + ")");
     }
     for (int col = 0; col < 3; ++col)
         volume.spacing[col] = std::sqrt(dense.affine[0][col] * dense.affine[0][col] +
@@ -308,6 +304,11 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
     finiteMeta(kMetaBackground, volume.background);
     std::string source;
     if (readMeta<openvdb::StringMetadata>(*grid, kMetaSource, source)) volume.sourcePath = source;
+    // The world scale of tiny voxels (volume/grid_world.h), as writeVdb keeps it.
+    if ((*grid)[kMetaWorldScale] && (!grid->getMetadata<openvdb::DoubleMetadata>(kMetaWorldScale) ||
+                                     !validWorldScale(gridWorldScale(*grid))))
+        throw Error(path + ": metadata " + kMetaWorldScale +
+                    " is not a power of two in [2^-340, 2^-9] (a double)");
 
     // Further scaling asked for now composes with what the file already holds.
     const double extra =
@@ -323,12 +324,11 @@ Volume loadVdb(const std::string& path, const LoadOptions& options) {
         applyBackground(grid->tree(), static_cast<float>(options.background * volume.valueScale));
         volume.background = options.background;
     }
-    const openvdb::math::Transform& t = grid->transform();
-    const openvdb::Vec3d o = t.indexToWorld(openvdb::Vec3d(0, 0, 0));
+    const openvdb::Vec3d o = gridIndexToWorld(*grid, openvdb::Vec3d(0, 0, 0));
     for (int a = 0; a < 3; ++a) {
         openvdb::Vec3d e(0, 0, 0);
         e[a] = 1.0;
-        volume.spacing[a] = (t.indexToWorld(e) - o).length();
+        volume.spacing[a] = (gridIndexToWorld(*grid, e) - o).length();
     }
     return volume;
 }
@@ -408,7 +408,9 @@ void writeVdb(const Volume& volume, const std::string& path, const std::string& 
     out->insertMeta(kMetaValueScale, openvdb::DoubleMetadata(volume.valueScale));
     out->insertMeta(kMetaBackground, openvdb::DoubleMetadata(volume.background));
 
-    const std::string temp = path + ".tmp" + std::to_string(::getpid());
+    // Named after this host and process (core/temporary_file.h), so a run killed while writing
+    // leaves a file the next run into the folder recognises and removes.
+    const std::string temp = temporarySibling(path);
     const RemovedOnInterrupt guard(temp);
     // Through a stream of our own: openvdb::io::File does not report a short write (a full disk
     // left a truncated .vdb and exit 0), the stream's state does, and close() flushes.
@@ -455,7 +457,7 @@ struct Fnv1a64 {
 std::string volumeContentHash(const Volume& volume) {
     Fnv1a64 f;
     if (!volume.grid) return "none";
-    const openvdb::math::Mat4d m = volume.grid->transform().baseMap()->getAffineMap()->getMat4();
+    const openvdb::math::Mat4d m = gridWorldMatrix(*volume.grid);
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) f.value(m[r][c]);
     for (int a = 0; a < 3; ++a) {
@@ -530,7 +532,7 @@ VolumeStats computeStats(const Volume& volume) {
     for (int corner = 0; corner < 8; ++corner) {
         openvdb::Vec3d p;
         for (int a = 0; a < 3; ++a) p[a] = o[a] - 0.5 + ((corner >> a) & 1 ? volume.dims[a] : 0);
-        s.worldBox.expand(grid.transform().indexToWorld(p));
+        s.worldBox.expand(gridIndexToWorld(grid, p));
     }
     return s;
 }
@@ -600,7 +602,8 @@ VolumeSummary summaryOf(const Volume& volume, const std::string& path) {
     out.dims = volume.dims;
     out.indexOrigin = volume.indexOrigin;
     out.spacing = volume.spacing;
-    const openvdb::Vec3d first = volume.grid->transform().indexToWorld(
+    const openvdb::Vec3d first = gridIndexToWorld(
+        *volume.grid,
         openvdb::Vec3d(volume.indexOrigin[0], volume.indexOrigin[1], volume.indexOrigin[2]));
     for (int a = 0; a < 3; ++a) {
         out.worldMin[a] = s.worldBox.min()[a];

@@ -7,7 +7,10 @@
 // integer lattice, which is both OpenVDB's and NIfTI's convention. The grid's transform is the
 // full index → world affine map: diag(spacing) for raw files, the sform/qform/pixdim map for NIfTI
 // (nifti1.h, "METHOD 1/2/3"), the spacings / space directions for NRRD, the slice positions and
-// orientation for DICOM (converted from DICOM's LPS to the RAS frame NIfTI's sform uses).
+// orientation for DICOM (converted from DICOM's LPS to the RAS frame NIfTI's sform uses). Voxels
+// below 1e-3 units³ (OpenVDB refuses maps below 3e-15) get the map divided by a power of two and
+// the factor kept in the grid's metadata: read a grid's world positions through
+// volume/grid_world.h, not its transform alone.
 //
 // Values. A stored value is (raw · slope + intercept) · valueScale, in float. slope/intercept are
 // the file's own rescaling (NIfTI scl_slope / scl_inter, slope 0 meaning 1); valueScale is ours:

@@ -77,7 +77,7 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     while ((1 << brickShift_) < bs) ++brickShift_;
     if (!(settings_.minGradientPerVoxel >= 0.0))
         throw Error(name + ": the gradient threshold must be >= 0");
-    geometry_ = GridGeometry(grid_->transform(), name);
+    geometry_ = GridGeometry(*grid_, name);
 
     const openvdb::CoordBBox active = grid_->evalActiveVoxelBoundingBox();
     empty_ = grid_->activeVoxelCount() == 0 || active.empty();

@@ -1,6 +1,7 @@
 #include "volume/volume_mask.h"
 
 #include "core/error.h"
+#include "volume/grid_world.h"
 
 #include <openvdb/tools/Interpolation.h>
 
@@ -18,7 +19,7 @@ VolumeMask::VolumeMask(openvdb::FloatGrid::ConstPtr grid, double iso, bool inver
 }
 
 bool VolumeMask::keeps(const Vec3& x) const {
-    const openvdb::Vec3d u = grid_->transform().worldToIndex(openvdb::Vec3d(x.x, x.y, x.z));
+    const openvdb::Vec3d u = gridWorldToIndex(*grid_, openvdb::Vec3d(x.x, x.y, x.z));
     bool inside;
     if (!labels_.empty()) {
         const openvdb::Coord c(int(std::floor(u.x() + 0.5)), int(std::floor(u.y() + 0.5)),

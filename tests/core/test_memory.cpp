@@ -114,5 +114,24 @@ TEST(Memory, AddressSpaceLimitIsTheBudget) {
         << report;
 }
 
+// A fixed budget (what the fuzz harness sets, fuzz/fuzz_common.h) replaces the measured one for
+// memoryBudget and checkFits, on any machine; bytes 0 measures again.
+TEST(Memory, AFixedBudgetReplacesTheMeasuredOne) {
+    const MemoryBudget measured = memoryBudget();
+    setMemoryBudget({3e6, "the test's budget"});
+    EXPECT_EQ(memoryBudget().bytes, 3e6);
+    EXPECT_EQ(memoryBudget().source, "the test's budget");
+    EXPECT_NO_THROW(checkFits(1.5e6, "half"));
+    try {
+        checkFits(1.6e6, "the test buffer");
+        ADD_FAILURE() << "1.6 MB passed a 3 MB budget";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("the test's budget"), std::string::npos) << e.what();
+    }
+    setMemoryBudget({});
+    EXPECT_EQ(memoryBudget().bytes, measured.bytes);
+    EXPECT_EQ(memoryBudget().source, measured.source);
+}
+
 }  // namespace
 }  // namespace lobe

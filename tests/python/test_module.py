@@ -280,6 +280,106 @@ class Arrays(Files):
         self.assertFalse(np.array_equal(bits(changed), bits(scene.render(spp=1)["beauty"])))
 
 
+def label_map(shape=(30, 32, 28)):
+    """A segmentation (int16, as atlases store it): a ball (1), a box (2) and a small ball (5)."""
+    i, j, k = np.meshgrid(*[np.arange(n) for n in shape], indexing="ij")
+    labels = np.zeros(shape, np.int16)
+    labels[(i - 10) ** 2 + (j - 14) ** 2 + (k - 14) ** 2 <= 36] = 1
+    labels[18:26, 8:24, 6:20] = 2
+    labels[(i - 12) ** 2 + (j - 26) ** 2 + (k - 8) ** 2 <= 9] = 5
+    return labels
+
+
+LABEL_TABLE = {1: "Hippocampus_L", 2: {"name": "Putamen_R", "color": "#ff8800"}, 5: "Vermis"}
+
+
+def segmentation_scene(source):
+    return {
+        "image": {"width": 40, "height": 36, "samples_per_pixel": 2, "seed": 4},
+        "camera": {"position": [30.0, -150.0, 50.0], "target": [0.0, 0.0, 0.0], "up": [0, 0, 1],
+                   "fov_deg": 30},
+        "lights": [{"position": [100.0, -160.0, 120.0], "intensity": 50000.0}],
+        "objects": [
+            {"name": "seg", "kind": "segmentation", "source": source,
+             "labels": ["Hippocampus_L", "Putamen_R"], "brdf": {"model": "phong"},
+             "overrides": {"Putamen_R": {"brdf": {"model": "ward", "alpha_x": 0.2,
+                                                  "alpha_y": 0.2}}}},
+            {"name": "vermis", "kind": "isosurface", "source": dict(source, labels=["Vermis"]),
+             "brdf": {"model": "lambert"}, "color": [0.3, 0.6, 0.9]},
+        ],
+    }
+
+
+class LabelMaps(Files):
+    """Label maps from memory (an array with its affine, or a nibabel image) with their table in
+    memory render as the same map read from a NIfTI file."""
+
+    def setUp(self):
+        super().setUp()
+        self.labels = label_map()
+        self.labels_path = os.path.join(self.tmp, "labels.nii.gz")
+        nib.save(nib.Nifti1Image(self.labels, AFFINE), self.labels_path)
+        # The table as a file too, for the file's scene (JSON keys are strings).
+        self.file_table = {str(k): v for k, v in LABEL_TABLE.items()}
+
+    def render(self, source):
+        out = lobe.Scene(segmentation_scene(source)).render(spp=2, aov=["alpha"])
+        return out["beauty"], out["alpha"]
+
+    def test_array_and_image_render_as_the_nifti_file(self):
+        beauty, alpha = self.render({"path": self.labels_path, "label_table": self.file_table})
+        self.assertGreater(float(alpha.mean()), 0.05)  # the labels are in the picture
+        loaded = nib.load(self.labels_path)
+        cases = {
+            "array and affine": {"array": self.labels, "affine": AFFINE},
+            "array as float64, numpy keys": {"array": self.labels.astype(np.float64),
+                                             "affine": AFFINE},
+            "nibabel image from the file": {"image": loaded},
+        }
+        for name, source in cases.items():
+            with self.subTest(name):
+                table = ({np.int64(k): v for k, v in LABEL_TABLE.items()}
+                         if "numpy" in name else LABEL_TABLE)
+                b, a = self.render(dict(source, label_table=table))
+                np.testing.assert_array_equal(bits(b), bits(beauty))
+                np.testing.assert_array_equal(bits(a), bits(alpha))
+        # The nibabel image itself as the source (no room for a table: labels by number, so the
+        # colours differ; the geometry, hence the alpha, is the file's).
+        d = segmentation_scene({"image": loaded})
+        d["objects"][0]["source"] = loaded
+        d["objects"][0]["labels"] = [1, 2]
+        d["objects"][0]["overrides"] = {2: d["objects"][0]["overrides"]["Putamen_R"]}
+        d["objects"][1]["source"] = {"image": loaded, "labels": [5]}
+        out = lobe.Scene(d).render(spp=2, aov=["alpha"])
+        np.testing.assert_array_equal(bits(out["alpha"]), bits(alpha))
+        self.assertGreater(float(out["beauty"].max()), 0.0)
+
+    def test_names_come_from_the_table_in_memory(self):
+        scene = lobe.Scene(segmentation_scene({"array": self.labels, "affine": AFFINE,
+                                               "label_table": LABEL_TABLE}))
+        passes = scene.render(spp=1, width=16, height=12, aov=["objects"])
+        names = sorted({k.rsplit(".", 1)[0] for k in passes if k != "beauty"})
+        self.assertEqual(names, ["seg: Hippocampus_L", "seg: Putamen_R", "vermis"])
+
+    def test_label_errors_name_the_key_path(self):
+        source = {"array": self.labels, "affine": AFFINE, "label_table": LABEL_TABLE}
+        d = segmentation_scene(source)
+        d["objects"][0]["labels"] = ["Hippocampus_R"]
+        with self.assertRaises(lobe.Error) as caught:
+            lobe.Scene(d)
+        self.assertIn("objects[0].labels: 'Hippocampus_R' is in no label table", str(caught.exception))
+        d = segmentation_scene(dict(source, label_table={1: "a", 2: "b"}))
+        with self.assertRaises(lobe.Error) as caught:
+            lobe.Scene(d)
+        self.assertIn("objects[0].source.label_table", str(caught.exception))
+        self.assertIn("does not match the map array", str(caught.exception))
+        d = segmentation_scene(dict(source, array=self.labels + np.float32(0.5)))
+        with self.assertRaises(lobe.Error) as caught:
+            lobe.Scene(d)
+        self.assertIn("objects[0].source.array", str(caught.exception))
+        self.assertIn("not a label map", str(caught.exception))
+
+
 class Errors(Files):
     def assertError(self, scene, expected, **kwargs):
         with self.assertRaises(lobe.Error) as caught:

@@ -11,6 +11,7 @@
 #include <openvdb/io/Compression.h>
 #include <openvdb/io/File.h>
 #include <sys/resource.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -993,14 +994,42 @@ TEST(VolumeErrors, VdbWriteAndReadFailuresLeaveNothing) {
     EXPECT_FALSE(fs::exists(out));
     expectError([&] { convertVolume(shortRaw, (tempDir() / "x.nii").string(), o, ""); },
                 {"x.nii", ".vdb"});
-    for (const auto& entry : fs::directory_iterator(tempDir()))
+    for (const auto& entry : fs::directory_iterator(tempDir())) {
         EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+        EXPECT_EQ(entry.path().filename().string().find(".partial-"), std::string::npos)
+            << entry.path();
+    }
     const std::string goodRaw = writeFile("conv_ok.raw", Bytes{0, 3, 0, 4, 5, 0, 0, 9});
     const VolumeSummary s = convertVolume(goodRaw, out, o, "");
     EXPECT_TRUE(fs::exists(out));
     EXPECT_EQ(s.activeVoxels, 4);
     EXPECT_DOUBLE_EQ(s.mean, 21.0 / 8.0);
     EXPECT_DOUBLE_EQ(s.max, 9.0);
+}
+
+// writeVdb's temporary is the project's (core/temporary_file.h): named after this host and PID, so
+// one a killed conversion left (a SIGKILL no handler sees) is removed by the next writer into that
+// folder. It used to be "NAME.tmpPID", which no later run recognised.
+TEST(VolumeVdb, WriteReclaimsADeadRunsTemporary) {
+    const Volume v = loadRaw(writeFile("d.raw", Bytes{1, 2}),
+                             layout(2, 1, 1, VoxelType::kUint8, Endian::kLittle));
+    const fs::path dir = tempDir() / "out";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    char host[256] = {0};
+    ASSERT_EQ(::gethostname(host, sizeof host - 1), 0);
+    // PID 999999999 is above any pid_max (at most 2^22 on Linux): no process has it.
+    const fs::path stale = dir / (std::string(".brain.partial-") + host + "~999999999~42.vdb");
+    std::ofstream(stale) << "half a file";
+    ASSERT_TRUE(fs::exists(stale));
+    const std::string out = (dir / "brain.vdb").string();
+    writeVdb(v, out);
+    EXPECT_FALSE(fs::exists(stale));
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir))
+        names.push_back(entry.path().filename().string());
+    EXPECT_EQ(names, std::vector<std::string>{"brain.vdb"});
+    EXPECT_EQ(loadVdb(out).dims, v.dims);
 }
 
 }  // namespace
