@@ -59,8 +59,9 @@ struct MaskSpec {
     VolumeSourceSpec source;  // placed with the object's transform
     double iso = 0.5;
     bool invert = false;
-    // Label sets ("labels": [...]): the hook for label sources. Not parsed here yet (the scene
-    // file refuses the key); non-empty keeps the points whose nearest voxel holds one of them.
+    // A label set of a label map ("labels": [...]; source.labels holds the same ids, so the map
+    // loads as one): non-empty keeps the points inside the set's surface, the 0.5 level of its
+    // anti-aliased indicator (volume/labels.h; σ = source.labelSmooth), in place of `iso`.
     std::vector<int> labels;
 };
 
