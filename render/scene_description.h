@@ -201,11 +201,14 @@ struct SceneSpec {
     // Clip shapes of every object (core/clip.h; docs/scene-format.md, "Clip").
     std::vector<ClipShape> clip;
     // Shadows (render/integrator.h, "Shadows"): "off", "exact" (a shadow ray per light from
-    // every shaded point) or "cached" (volume samples read a per-light transmittance cache of
-    // nodes shadowCacheVoxels voxels apart; surfaces stay exact).
+    // every shaded point) or "cached" (shaded points read a per-light transmittance cache of
+    // nodes shadowCacheVoxels voxels apart).
     std::string shadows = "off";
-    double shadowCacheVoxels = 2.0;
+    double shadowCacheVoxels = 4.0;
     double shadowCacheStepVoxels = 0.5;  // the node rays' step (the scene's if that is coarser)
+    // "cached": surface hits read the surfaces' shadows from the cache too (true, "surfaces":
+    // "cached") or cast exact shadow rays through the surfaces (false, "exact": sharp).
+    bool shadowCacheSurfaces = true;
     std::vector<ObjectSpec> objects;
 };
 

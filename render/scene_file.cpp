@@ -1000,8 +1000,10 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         } else {
             Reader sh = r.child("shadows");
             scene.shadows = sh.string("mode", "exact", {"off", "exact", "cached"});
-            scene.shadowCacheVoxels = sh.number("cache_voxels", 2.0, 0.25, 64.0);
+            scene.shadowCacheVoxels = sh.number("cache_voxels", 4.0, 0.25, 64.0);
             scene.shadowCacheStepVoxels = sh.number("cache_step_voxels", 0.5, 1e-3, 16.0);
+            scene.shadowCacheSurfaces =
+                sh.string("surfaces", "cached", {"cached", "exact"}) == "cached";
             sh.finish();
         }
     }
