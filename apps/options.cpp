@@ -29,10 +29,11 @@ void addOverrideOptions(CLI::App& sub, SceneOverrides& o) {
                    "box:x0,y0,z0,x1,y1,z1 the inside (world mm); append :invert for the other "
                    "side, :cap to close cut iso-surfaces; repeatable (docs/scene-format.md, "
                    "\"Clip\")");
-    sub.add_option("--shadows", o.shadows,
-                   "shadows from every light: exact (a shadow ray per light from every shaded "
-                   "point), cached (volume samples read a per-light transmittance cache), or off "
-                   "(overrides the scenes; docs/scene-format.md, \"Shadows\")")
+    sub.add_option(
+           "--shadows", o.shadows,
+           "shadows from every light: exact (a shadow ray per light from every shaded "
+           "point), cached (every shaded point reads a per-light transmittance grid), or off "
+           "(overrides the scenes; docs/scene-format.md, \"Shadows\")")
         ->check(CLI::IsMember({"off", "exact", "cached"}));
     sub.add_flag("--preview", o.preview,
                  "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win), "

@@ -64,26 +64,38 @@ void Integrator::resetCaches() {
     volumeCache_.reset();
     const SceneSpec& spec = scene_.spec();
     shadowsOn_ = spec.shadows != "off" && !spec.lights.empty();
-    if (spec.shadows != "cached" || scene_.volumeObjects().empty() || spec.lights.empty()) return;
-    // Over the volumes' world boxes (as clipped), nodes shadowCacheVoxels of the finest
-    // volume's voxels apart.
-    Vec3 lo(kInf), hi(-kInf);
+    cachedOn_ = shadowsOn_ && spec.shadows == "cached";
+    if (!cachedOn_) return;
+    // Over the world boxes (as clipped) of what the cache holds — the casting volumes, and with
+    // cached surface shadows the casting surfaces too — nodes shadowCacheVoxels of the finest
+    // such object's voxels apart. Outside that box nothing casts a shadow.
+    Vec3 lo(kInf), hi(-kInf), vlo(kInf), vhi(-kInf);
     double voxel = kInf;
-    for (const SceneVolume& vo : scene_.volumeObjects()) {
-        const WorldBox& b = scene_.objectBoxes()[size_t(vo.objectIndex)];
-        if (b.empty()) continue;
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], b.lo[a]);
-            hi[a] = std::max(hi[a], b.hi[a]);
+    auto grow = [&](int objectIndex, const openvdb::GridBase& grid, Vec3& a, Vec3& b) {
+        const WorldBox& box = scene_.objectBoxes()[size_t(objectIndex)];
+        if (box.empty()) return;
+        for (int k = 0; k < 3; ++k) {
+            a[k] = std::min(a[k], box.lo[k]);
+            b[k] = std::max(b[k], box.hi[k]);
         }
-        const openvdb::Vec3d v = gridVoxelSize(vo.volume->grid());
+        const openvdb::Vec3d v = gridVoxelSize(grid);
         voxel = std::min(voxel, std::min(v.x(), std::min(v.y(), v.z())));
-    }
-    if (!(lo.x <= hi.x) || !std::isfinite(voxel)) return;
-    cache_ = std::make_unique<ShadowCache>(lo, hi, voxel * spec.shadowCacheVoxels,
-                                           int(spec.lights.size()));
-    volumeCache_ = std::make_unique<ShadowCache>(lo, hi, voxel * spec.shadowCacheVoxels,
-                                                 int(spec.lights.size()));
+    };
+    for (const SceneVolume& vo : scene_.volumeObjects())
+        if (vo.spec->castsShadows) {
+            grow(vo.objectIndex, vo.volume->grid(), lo, hi);
+            grow(vo.objectIndex, vo.volume->grid(), vlo, vhi);
+        }
+    if (spec.shadowCacheSurfaces)
+        for (const SceneSurface& so : scene_.surfaceObjects())
+            if (so.spec->castsShadows && so.field) grow(so.objectIndex, *so.field, lo, hi);
+    if (!std::isfinite(voxel)) return;  // nothing casts: no shadows to cache
+    const int lights = int(spec.lights.size());
+    if (lo.x <= hi.x)
+        cache_ = std::make_unique<ShadowCache>(lo, hi, voxel * spec.shadowCacheVoxels, lights);
+    if (!spec.shadowCacheSurfaces && vlo.x <= vhi.x)
+        volumeCache_ =
+            std::make_unique<ShadowCache>(vlo, vhi, voxel * spec.shadowCacheVoxels, lights);
 }
 
 double Integrator::lightTransmittance(const Vec3& from, const PointLight& light, double jitter,
@@ -128,11 +140,12 @@ double Integrator::lightTransmittance(const Vec3& from, const PointLight& light,
     return T;
 }
 
-const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
+const double* Integrator::shadowsAt(const Vec3& p, const Vec3* normal, Rng& rng,
                                     TraceState& st) const {
     const SceneSpec& spec = scene_.spec();
     if (!shadowsOn_) return nullptr;
     st.shadow.resize(spec.lights.size());
+    const bool volumeSample = normal == nullptr;
     // Surfaces start their shadow rays a hair off the surface (relative to the coordinates'
     // size: the exact roots are ~1e-10 voxel accurate, Embree's float meshes ~1e-7 relative).
     const double tMin =
@@ -140,30 +153,56 @@ const double* Integrator::shadowsAt(const Vec3& p, bool volumeSample, Rng& rng,
             ? 0.0
             : 1e-5 * (1.0 + std::max(std::abs(p.x), std::max(std::abs(p.y), std::abs(p.z))));
     const double jitter = rng.uniform();
-    if (cache_) {
-        const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
-        for (size_t l = 0; l < spec.lights.size(); ++l) {
-            const PointLight& light = spec.lights[l];
-            if (volumeSample) {
-                // Volume samples: surfaces and volumes from the cache (header, "Shadows").
-                st.shadow[l] = cache_->lookup(int(l), p, [&](const Vec3& node) {
-                    return lightTransmittance(node, light, 0.5, st, 0.0, scale, true, true);
-                });
-                continue;
-            }
-            // Surface hits: surfaces exactly, volumes from their own cache.
-            double T = lightTransmittance(p, light, jitter, st, tMin, 1.0, true, false);
-            Vec3 q;
-            if (T > 0.0 && volumeCache_->entry(p, light.position, q))
-                T *= volumeCache_->lookup(int(l), q, [&](const Vec3& node) {
-                    return lightTransmittance(node, light, 0.5, st, 0.0, scale, false, true);
-                });
-            st.shadow[l] = T;
-        }
+    if (!cachedOn_) {
+        for (size_t l = 0; l < spec.lights.size(); ++l)
+            st.shadow[l] = lightTransmittance(p, spec.lights[l], jitter, st, tMin);
         return st.shadow.data();
     }
-    for (size_t l = 0; l < spec.lights.size(); ++l)
-        st.shadow[l] = lightTransmittance(p, spec.lights[l], jitter, st, tMin);
+    const double scale = std::max(1.0, spec.shadowCacheStepVoxels / spec.volumeStepVoxels);
+    // The cache's value at q, or where the segment q → light enters its box (nothing casts
+    // outside it); 1 when the segment misses the box or there is no cache.
+    auto cached = [&](const ShadowCache* cache, int l, const Vec3& q, bool surfaces) {
+        const PointLight& light = spec.lights[size_t(l)];
+        Vec3 e;
+        if (!cache || !cache->entry(q, light.position, e)) return 1.0;
+        return cache->lookup(l, e, [&](const Vec3& node) {
+            return lightTransmittance(node, light, 0.5, st, 0.0, scale, surfaces, true);
+        });
+    };
+    for (size_t l = 0; l < spec.lights.size(); ++l) {
+        const PointLight& light = spec.lights[l];
+        if (volumeSample) {
+            // Volume samples: surfaces and volumes from the cache (header, "Shadows").
+            st.shadow[l] = cached(cache_.get(), int(l), p, true);
+        } else if (spec.shadowCacheSurfaces) {
+            // Surface hits: from the nodes on the light's side of the tangent plane (header,
+            // "Shadows"); outside the cache's box from where the shadow ray enters it.
+            Vec3 e;
+            if (!cache_ || !cache_->entry(p, light.position, e)) {
+                st.shadow[l] = 1.0;
+                continue;
+            }
+            const Vec3 n = normal->dot(light.position - p) >= 0.0 ? *normal : -*normal;
+            const auto node = [&](const Vec3& x) {
+                return lightTransmittance(x, light, 0.5, st, 0.0, scale, true, true);
+            };
+            double T =
+                e != p ? cache_->lookup(int(l), e, node) : cache_->lookupAbove(int(l), p, n, node);
+            if (T < 0.0) {
+                // No node of the cell above the plane (p on a cell face, n along an axis): the
+                // cell beyond, reached by moving off the surface by its reach along n.
+                const double reach =
+                    1.01 * cache_->spacing() * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+                T = cached(cache_.get(), int(l), p + n * reach, true);
+            }
+            st.shadow[l] = T;
+        } else {
+            // Surfaces exactly, volumes from their own cache.
+            double T = lightTransmittance(p, light, jitter, st, tMin, 1.0, true, false);
+            if (T > 0.0) T *= cached(volumeCache_.get(), int(l), p, false);
+            st.shadow[l] = T;
+        }
+    }
     return st.shadow.data();
 }
 
@@ -250,7 +289,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                 if (s.hasNormal)
                     point.frame =
                         Frame::fromNormalAndAxis(s.normal, vo.tangent.axis, vo.tangent.fallback);
-                point.shadow = shadowsAt(s.position, true, rng, st);
+                point.shadow = shadowsAt(s.position, nullptr, rng, st);
                 L = shadeCounted(point, toViewer, spec.lights, cost, vo.objectIndex,
                                  &CostCounters::volumeShadingSeconds);
                 const double scale = weight < w0 ? w0 / weight : 1.0;
@@ -342,7 +381,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                                                             hit->position, hit->normal)
                                           : hit->normal;
         point.frame = Frame::fromNormalAndAxis(normal, so.tangent.axis, so.tangent.fallback);
-        point.shadow = shadowsAt(hit->position, false, rng, st);
+        point.shadow = shadowsAt(hit->position, &hit->normal, rng, st);
         const Spectrum L = shadeCounted(point, toViewer, spec.lights, cost, so.objectIndex,
                                         &CostCounters::surfaceShadingSeconds);
         if (sink)

@@ -15,13 +15,21 @@
 // shadow ray (the same marcher, step, opacity correction, clipping and empty-space skipping as
 // camera rays; the discrete form of T = exp(−∫σ), Max 1995 eq. 3), stopped at 0 once below the
 // scene's termination threshold. The shadow ray's lattice offset is drawn from the pixel
-// sample's random stream, so images are the same for any thread count. With "cached", volume
-// volume samples read the whole transmittance from a per-light cache (render/shadow_cache.h),
-// while surface hits take the surfaces' part exactly (an Embree shadow ray, so their shadows stay
-// sharp) and the volumes' part from a second cache of the volumes alone, at the point or, outside
-// the volumes' box, where the shadow ray enters it (nothing absorbs before). The caches' node
-// rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if coarser). Caps cast no
-// shadow.
+// sample's random stream, so images are the same for any thread count. With "cached", every
+// shaded point reads the transmittance from a per-light cache (render/shadow_cache.h) over the
+// casting objects' box, each node an exact shadow ray through surfaces and volumes; a point
+// outside the box reads it where its shadow ray enters the box (nothing casts before). Volume
+// samples read it at the point. A surface hit reads it off the surface: moved to the light's
+// side along the normal by the interpolation cell's reach along it, h·(|nx| + |ny| + |nz|) (h
+// the node spacing), so that all 8 nodes it interpolates lie beyond the surface's tangent plane
+// and the surface does not shadow itself — the "normal offset" of shadow maps (D. Holbert,
+// "Normal offset shadows", GDC 2011 poster), applied to a transmittance grid ("light volume":
+// Behrens & Ratering 1998). Shadows of other surfaces closer than that reach are partly lost,
+// and shadow edges are blurred over about a node spacing. With "surfaces": "exact"
+// (SceneSpec::shadowCacheSurfaces false) surface hits cast exact shadow rays through the
+// surfaces instead (sharp) and read the volumes' part from a second cache of the volumes alone.
+// The caches' node rays march at SceneSpec::shadowCacheStepVoxels (or the scene's step if
+// coarser). Caps cast no shadow.
 #pragma once
 
 #include "core/light.h"
@@ -124,17 +132,21 @@ public:
 private:
     // Fills state.shadow for a point (exact, or from the cache for volume samples); null when
     // the scene has no shadows.
-    const double* shadowsAt(const Vec3& p, bool volumeSample, Rng& rng, TraceState& state) const;
+    // `normal` is a surface hit's (geometric) normal, null for a volume sample.
+    const double* shadowsAt(const Vec3& p, const Vec3* normal, Rng& rng, TraceState& state) const;
 
     const Scene& scene_;
-    std::unique_ptr<ShadowCache> cache_;        // surfaces and volumes, for volume samples
-    std::unique_ptr<ShadowCache> volumeCache_;  // volumes only, for surface hits
+    // Surfaces (with SceneSpec::shadowCacheSurfaces) and volumes; for all shaded points.
+    std::unique_ptr<ShadowCache> cache_;
+    std::unique_ptr<ShadowCache>
+        volumeCache_;  // volumes only, for surface hits with exact surfaces
     bool shadowsOn_ = false;
     // Camera rays through translucent surfaces gather their hits in one traversal
     // (SurfaceScene::collectHits) instead of one traversal per hit; with opaque surfaces only
     // the first hit is ever needed and intersect() is used. 1 − opacity per surface object.
     bool gatherSurfaceHits_ = false;
     std::vector<double> surfaceTransmittance_;
+    bool cachedOn_ = false;  // SceneSpec::shadows == "cached"
 };
 
 }  // namespace lobe

@@ -454,9 +454,16 @@ Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(s
         std::shared_ptr<const VolumeMask> mask;
         if (object.mask.enabled) {
             try {
+                // A label set's mask is its anti-aliased indicator's 0.5 level, the surface a
+                // segmentation draws for the same labels (volume/labels.h).
+                const MaskSpec& m = object.mask;
                 mask = std::make_shared<const VolumeMask>(
-                    placeInWorld(*volumes.get(object.mask.source), object.transform, context),
-                    object.mask.iso, object.mask.invert, object.mask.labels);
+                    m.labels.empty()
+                        ? placeInWorld(*volumes.get(m.source), object.transform, context)
+                        : placeInWorld(labelSurfaceField(*loadLabelMap(m.source.path), m.labels,
+                                                         m.source.labelSmooth),
+                                       object.transform, context),
+                    m.labels.empty() ? m.iso : 0.5, m.invert);
             } catch (const Error& e) {
                 throw Error(context + ": mask: " + e.what());
             }

@@ -65,8 +65,9 @@ struct MaskSpec {
     VolumeSourceSpec source;  // placed with the object's transform
     double iso = 0.5;
     bool invert = false;
-    // Label sets ("labels": [...]): the hook for label sources. Not parsed here yet (the scene
-    // file refuses the key); non-empty keeps the points whose nearest voxel holds one of them.
+    // A label set of a label map ("labels": [...]; source.labels holds the same ids, so the map
+    // loads as one): non-empty keeps the points inside the set's surface, the 0.5 level of its
+    // anti-aliased indicator (volume/labels.h; σ = source.labelSmooth), in place of `iso`.
     std::vector<int> labels;
 };
 
@@ -206,11 +207,14 @@ struct SceneSpec {
     // Clip shapes of every object (core/clip.h; docs/scene-format.md, "Clip").
     std::vector<ClipShape> clip;
     // Shadows (render/integrator.h, "Shadows"): "off", "exact" (a shadow ray per light from
-    // every shaded point) or "cached" (volume samples read a per-light transmittance cache of
-    // nodes shadowCacheVoxels voxels apart; surfaces stay exact).
+    // every shaded point) or "cached" (shaded points read a per-light transmittance cache of
+    // nodes shadowCacheVoxels voxels apart).
     std::string shadows = "off";
-    double shadowCacheVoxels = 2.0;
+    double shadowCacheVoxels = 4.0;
     double shadowCacheStepVoxels = 0.5;  // the node rays' step (the scene's if that is coarser)
+    // "cached": surface hits read the surfaces' shadows from the cache too (true, "surfaces":
+    // "cached") or cast exact shadow rays through the surfaces (false, "exact": sharp).
+    bool shadowCacheSurfaces = true;
     std::vector<ObjectSpec> objects;
     // `--preview`: He–Torrance materials read a table of their parameters instead of summing the
     // series (materials/he_torrance_table.h, within its stated error bound). Not a scene key.

@@ -558,16 +558,41 @@ ObjectSpec readObject(Reader r, const SourceContext& context) {
     if (r.has("clip")) o.clip = readClip(r, "clip");
     o.castsShadows = r.boolean("casts_shadows", true);
     if (r.has("mask")) {
-        // {"source": {...}, "iso": v, "invert": bool}. "labels" (label sets) is the hook another
-        // change fills (MaskSpec::labels); until then it is an unknown key.
+        // {"source": {...}, "iso": v, "invert": bool}, or a label set of a label map:
+        // {"source": {"path": MAP, "label_table": …}, "labels": [numbers or names], …}.
         Reader m = r.child("mask");
         o.mask.enabled = true;
         if (!m.has("source"))
             m.fail(m.at("source"), "missing (the mask's volume, as an object's source)");
-        o.mask.source = readSource(m.child("source"), context);
-        if (!m.has("iso"))
-            m.fail(m.at("iso"), "missing (the object exists where the mask's value is above it)");
-        o.mask.iso = m.number("iso", 0.5, -1e12, 1e12);
+        const Json& sourceJson = m.raw("source");
+        if (sourceJson.is_object() && sourceJson.contains("labels"))
+            m.fail(m.at("source") + ".labels",
+                   "a mask lists its labels in the mask's own \"labels\"");
+        if (m.has("labels")) {
+            if (m.has("iso"))
+                m.fail(m.at("iso"),
+                       "not with labels (a label set's mask is the 0.5 level of its smoothed "
+                       "indicator; set source.label_smooth)");
+            o.mask.source = readSource(m.child("source"), context, true);
+            // The map (loaded once per process) and the table readSource accepted, for names.
+            const LabelSource named = openLabelSource(
+                o.mask.source.labelMap, o.mask.source.path,
+                sourceJson.contains("label_table") ? &sourceJson["label_table"] : nullptr,
+                context.baseDir);
+            try {
+                o.mask.labels = labelIdsOf(m.raw("labels"), named, false);
+            } catch (const Error& e) {
+                m.fail(m.at("labels"), e.what());
+            }
+            o.mask.source.labels = o.mask.labels;  // loaded as a label map (render/scene.cpp)
+        } else {
+            o.mask.source = readSource(m.child("source"), context);
+            if (!m.has("iso"))
+                m.fail(m.at("iso"),
+                       "missing (the object exists where the mask's value is above "
+                       "it; or \"labels\" for a label map)");
+            o.mask.iso = m.number("iso", 0.5, -1e12, 1e12);
+        }
         o.mask.invert = m.boolean("invert", false);
         m.finish();
     }
@@ -999,8 +1024,10 @@ SceneSpec parseScene(const std::string& text, const std::string& baseDir, const 
         } else {
             Reader sh = r.child("shadows");
             scene.shadows = sh.string("mode", "exact", {"off", "exact", "cached"});
-            scene.shadowCacheVoxels = sh.number("cache_voxels", 2.0, 0.25, 64.0);
+            scene.shadowCacheVoxels = sh.number("cache_voxels", 4.0, 0.25, 64.0);
             scene.shadowCacheStepVoxels = sh.number("cache_step_voxels", 0.5, 1e-3, 16.0);
+            scene.shadowCacheSurfaces =
+                sh.string("surfaces", "cached", {"cached", "exact"}) == "cached";
             sh.finish();
         }
     }

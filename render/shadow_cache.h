@@ -1,10 +1,11 @@
-// A per-light transmittance cache for shadows through volumes (SceneSpec::shadows = "cached";
-// render/integrator.h, "Shadows"): the transmittance through the volumes from the nodes of a
-// regular world grid over the volumes' boxes to each light, each node computed once by a shadow
-// ray (Integrator::lightTransmittance, volumes only, a fixed lattice offset) and interpolated
-// trilinearly between the 8 nodes around a point
-// — the "light volume" / deep-shadow idea of volume rendering (Behrens & Ratering 1998, "Adding
-// shadows to a texture-based volume renderer"; Kniss et al. 2003 compute it per light slice).
+// A per-light transmittance cache for shadows (SceneSpec::shadows = "cached"; render/integrator.h,
+// "Shadows"): the transmittance through the casting objects from the nodes of a regular world
+// grid over their boxes to each light, each node computed once by a shadow ray
+// (Integrator::lightTransmittance, a fixed lattice offset) and interpolated trilinearly between
+// the 8 nodes around a point — the "light volume" / deep-shadow idea of volume rendering
+// (Behrens & Ratering 1998, "Adding shadows to a texture-based volume renderer"; Kniss et al.
+// 2003 compute it per light slice). Surface points interpolate only the nodes on the light's side
+// of their tangent plane (lookupAbove).
 // Nodes are computed lazily, the first time a sample needs them; a node's value depends only on
 // its position and the light, whoever computes it, so images are the same for any thread count.
 #pragma once
@@ -28,30 +29,17 @@ public:
     // box); compute(nodePosition) gives a node's value when it is not yet known.
     template <class Compute>
     double lookup(int light, const Vec3& p, Compute&& compute) const {
-        double u[3];
-        int i0[3];
-        for (int a = 0; a < 3; ++a) {
-            const double x = std::clamp((p[a] - lo_[a]) / spacing_, 0.0, double(n_[a] - 1));
-            i0[a] = std::min(int(x), std::max(0, n_[a] - 2));
-            u[a] = x - i0[a];
-        }
-        std::atomic<float>* values = values_[size_t(light)].get();
-        double sum = 0.0;
-        for (int c = 0; c < 8; ++c) {
-            const int ix = i0[0] + (c & 1), iy = i0[1] + ((c >> 1) & 1),
-                      iz = i0[2] + ((c >> 2) & 1);
-            const double w = ((c & 1) ? u[0] : 1 - u[0]) * ((c & 2) ? u[1] : 1 - u[1]) *
-                             ((c & 4) ? u[2] : 1 - u[2]);
-            if (w == 0.0) continue;
-            std::atomic<float>& node = values[(size_t(iz) * n_[1] + iy) * n_[0] + ix];
-            float v = node.load(std::memory_order_relaxed);
-            if (v < 0.0f) {
-                v = float(compute(lo_ + Vec3(ix, iy, iz) * spacing_));
-                node.store(v, std::memory_order_relaxed);
-            }
-            sum += w * v;
-        }
-        return sum;
+        return interpolate(light, p, nullptr, compute);
+    }
+
+    // The same from the nodes of p's cell that lie strictly on the side of the plane through p
+    // with normal n that n points to (their trilinear weights renormalised): a surface point
+    // interpolates only nodes on the light's side of its tangent plane, whose shadow rays do not
+    // cross the surface itself (render/integrator.h, "Shadows"). A negative value when no node
+    // of the cell lies on that side (p on a cell face with n along it).
+    template <class Compute>
+    double lookupAbove(int light, const Vec3& p, const Vec3& n, Compute&& compute) const {
+        return interpolate(light, p, &n, compute);
     }
 
     // The point where the segment from p to `to` enters the cache's box (p itself when inside);
@@ -87,6 +75,37 @@ public:
     long long computedNodes() const;
 
 private:
+    template <class Compute>
+    double interpolate(int light, const Vec3& p, const Vec3* n, Compute&& compute) const {
+        double u[3];
+        int i0[3];
+        for (int a = 0; a < 3; ++a) {
+            const double x = std::clamp((p[a] - lo_[a]) / spacing_, 0.0, double(n_[a] - 1));
+            i0[a] = std::min(int(x), std::max(0, n_[a] - 2));
+            u[a] = x - i0[a];
+        }
+        std::atomic<float>* values = values_[size_t(light)].get();
+        double sum = 0.0, weights = 0.0;
+        for (int c = 0; c < 8; ++c) {
+            const int ix = i0[0] + (c & 1), iy = i0[1] + ((c >> 1) & 1),
+                      iz = i0[2] + ((c >> 2) & 1);
+            const double w = ((c & 1) ? u[0] : 1 - u[0]) * ((c & 2) ? u[1] : 1 - u[1]) *
+                             ((c & 4) ? u[2] : 1 - u[2]);
+            const Vec3 node = lo_ + Vec3(ix, iy, iz) * spacing_;
+            if (w == 0.0 || (n && !((node - p).dot(*n) > 0.0))) continue;
+            std::atomic<float>& value = values[(size_t(iz) * n_[1] + iy) * n_[0] + ix];
+            float v = value.load(std::memory_order_relaxed);
+            if (v < 0.0f) {
+                v = float(compute(node));
+                value.store(v, std::memory_order_relaxed);
+            }
+            sum += w * v;
+            weights += w;
+        }
+        if (!n) return sum;
+        return weights > 0.0 ? sum / weights : -1.0;
+    }
+
     Vec3 lo_;
     double spacing_ = 1.0;
     int n_[3] = {2, 2, 2};

@@ -4,24 +4,20 @@
 // it. Volumes drop the samples the mask refuses (volume/volume_marcher.h), surfaces the hits
 // (surface/surface_scene.h, SurfaceScene::setMask).
 //
-// Label sets (`"labels": [...]`, a segmentation's label values) are the second form: `labels`
-// non-empty keeps the points whose nearest voxel holds one of them. The scene file does not
-// parse them here (another branch adds label sources); this is the hook they fill.
+// Label sets (`"labels": [...]`) give the mask as their anti-aliased indicator (volume/labels.h,
+// labelSurfaceField) with iso 0.5: render/scene.cpp builds that grid.
 #pragma once
 
 #include "core/math.h"
 
 #include <openvdb/openvdb.h>
 
-#include <vector>
-
 namespace lobe {
 
 class VolumeMask {
 public:
     // `grid` maps index → scene world (the object's transform applied).
-    VolumeMask(openvdb::FloatGrid::ConstPtr grid, double iso, bool invert,
-               std::vector<int> labels = {});
+    VolumeMask(openvdb::FloatGrid::ConstPtr grid, double iso, bool invert);
 
     // Whether the object exists at world point x. Thread-safe (reads the tree without an
     // accessor).
@@ -34,7 +30,6 @@ private:
     openvdb::FloatGrid::ConstPtr grid_;
     double iso_ = 0.5;
     bool invert_ = false;
-    std::vector<int> labels_;
 };
 
 }  // namespace lobe

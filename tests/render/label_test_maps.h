@@ -5,6 +5,8 @@
 // on the labels themselves would draw a false shell of label 2.
 #pragma once
 
+#include <unistd.h>
+
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -58,16 +60,18 @@ inline std::string writeSyntheticMap(const std::string& name, bool fractional = 
         for (int j = 0; j < kMapN; ++j)
             for (int i = 0; i < kMapN; ++i)
                 data[(size_t(k) * kMapN + j) * kMapN + i] = std::int16_t(syntheticLabel(i, j, k));
-    if (!fractional) {
-        writeNiftiInt16(path, {kMapN, kMapN, kMapN}, data);
-        return path;
+    // Written under a name of this process's own and renamed: the tests of one binary run as
+    // parallel processes under ctest and would otherwise read a map another is rewriting.
+    const std::string own = path + "." + std::to_string(::getpid());
+    writeNiftiInt16(own, {kMapN, kMapN, kMapN}, data);
+    if (fractional) {
+        // The same map with a slope of 0.5: labels 0.5, 1, 1.5, 2 — not a label map.
+        std::fstream f(own, std::ios::in | std::ios::out | std::ios::binary);
+        const float slope = 0.5f;
+        f.seekp(112);
+        f.write(reinterpret_cast<const char*>(&slope), 4);
     }
-    // The same map with a slope of 0.5: labels 0.5, 1, 1.5, 2 — not a label map.
-    writeNiftiInt16(path, {kMapN, kMapN, kMapN}, data);
-    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-    const float slope = 0.5f;
-    f.seekp(112);
-    f.write(reinterpret_cast<const char*>(&slope), 4);
+    std::filesystem::rename(own, path);
     return path;
 }
 

@@ -17,6 +17,7 @@
 //    1995, eq. 3; transfer_function.h, opacity per voxel).
 #include "core/clip.h"
 #include "core/rng.h"
+#include "label_test_maps.h"
 #include "render/integrator.h"
 #include "render/render_scene.h"
 #include "render/scene_file.h"
@@ -454,6 +455,14 @@ TEST(Clip, SceneFileErrorsNameTheKey) {
 // = 19.3 ± 8.306; the block [7.5, 23.5] therefore keeps x ∈ [10.994, 23.5] inside the mask,
 // [7.5, 10.994] outside it.
 
+// The synthetic label map (tests/render/label_test_maps.h), under this process's own name.
+std::string labelMap() {
+    static const std::string path =
+        test::writeSyntheticMap("clip-mask-" + std::to_string(getpid()) + ".nii");
+    return path;
+}
+const std::string kTable = R"({"1": "Left", "2": "Ball", "3": "Right", "4": "Cube"})";
+
 const std::string kMask = R"("mask": {"source": {"path": "sphere.raw", "dims": [40, 40, 40],
                                                  "type": "float32"}, "iso": 1)";
 
@@ -520,11 +529,66 @@ TEST(Mask, ErrorsNameTheKey) {
         error(R"({"source": {"path": "sphere.raw", "dims": [40, 40, 40], "type": "float32"}})")
             .find("objects[0].mask.iso: missing"),
         std::string::npos);
-    // Label sets are not parsed yet (MaskSpec::labels is the hook).
+    // Label sets: a label map, names from its table, no iso, the labels in the mask's own key.
+    const std::string map = labelMap();
+    const std::string src =
+        R"("source": {"path": ")" + map + R"(", "label_table": )" + kTable + "}";
+    EXPECT_EQ(error("{" + src + R"(, "labels": ["Ball", 4]})"), "");
     EXPECT_NE(error(R"({"source": {"path": "sphere.raw", "dims": [40, 40, 40], "type": "float32"},
-                        "iso": 1, "labels": [3]})")
-                  .find("unknown key"),
+                        "labels": [3]})")
+                  .find("objects[0].mask.source.dims: not with labels"),
               std::string::npos);
+    EXPECT_NE(error("{" + src + R"(, "labels": [2], "iso": 0.5})")
+                  .find("objects[0].mask.iso: not with labels"),
+              std::string::npos);
+    EXPECT_NE(error("{" + src + R"(, "labels": ["Bal"]})").find("objects[0].mask.labels"),
+              std::string::npos);
+    EXPECT_NE(error("{" + src + R"(, "labels": ["Bal"]})").find("Ball"), std::string::npos);
+    EXPECT_NE(error(R"({"source": {"path": ")" + map + R"(", "labels": [2]}, "iso": 0.5})")
+                  .find("objects[0].mask.source.labels: a mask lists its labels"),
+              std::string::npos);
+}
+
+// A label set of a label map as the mask (tests/render/label_test_maps.h: label 1 "Left" fills
+// x < 11.5 and 2 "Ball" a ball of radius 5 about (12, 12, 12) inside the box [1.5, 21.5]³, 3
+// "Right" the rest of that box, 4 "Cube" the voxels 22…27, i.e. [21.5, 27.5]³). The set's mask is
+// its smoothed indicator's 0.5 level (σ 0.6 voxel: within half a voxel of the voxel cubes).
+// The box surface's faces x = 7.5 and 23.5 are hit along +x:
+//  - at (y, z) = (12.2, 12.3), x = 7.5 lies inside Left ∪ Ball (≥ 3 voxels from that union's
+//    boundary at x = 1.5 and from its other labels' side), x = 23.5 outside every label but 0;
+//    Right holds neither point.
+//  - at (y, z) = (22.5, 22.6), x = 23.5 lies in the Cube (1 voxel from two of its faces, 2 from the
+//    third: the smoothed corner value Φ(1/0.6)² Φ(2/0.6) ≈ 0.9 > 0.5), x = 7.5 in label 0.
+TEST(Mask, LabelSetsOfALabelMapKeepTheirInside) {
+    const std::string map = labelMap();
+    auto surface = [&](const std::string& labels, bool invert) {
+        return R"({"kind": "isosurface", "source": {"path": "box.raw", "dims": [32, 32, 32],
+                   "type": "float32"}, "iso": 0.5, "opacity": 0.5, "brdf": {"model": "lambert"},
+                   "mask": {"source": {"path": ")" +
+               map + R"(", "label_table": )" + kTable + R"(}, "labels": )" + labels +
+               R"(, "invert": )" + (invert ? "true" : "false") + "}}";
+    };
+    auto hits = [&](const std::string& labels, bool invert, const Ray& ray) {
+        std::vector<double> t;
+        for (const auto& e : eventsOf(parse(sceneText(surface(labels, invert))), ray))
+            t.push_back(e.t);
+        return t;
+    };
+    const Ray a = rayOf(Vec3(0, 12.2, 12.3), Vec3(1, 0, 0));
+    const Ray b = rayOf(Vec3(0, 22.5, 22.6), Vec3(1, 0, 0));
+    using T = std::vector<double>;
+    auto near = [](const T& got, const T& want) {
+        if (got.size() != want.size()) return false;
+        for (size_t i = 0; i < got.size(); ++i)
+            if (std::abs(got[i] - want[i]) > 1e-6) return false;
+        return true;
+    };
+    EXPECT_TRUE(near(hits(R"(["Left", "Ball"])", false, a), T{7.5}));
+    EXPECT_TRUE(near(hits(R"([1, 2])", true, a), T{23.5}));
+    EXPECT_TRUE(near(hits(R"(["Right"])", false, a), T{}));
+    EXPECT_TRUE(near(hits(R"(["Right"])", true, a), T{7.5, 23.5}));
+    EXPECT_TRUE(near(hits(R"(["Cube"])", false, b), T{23.5}));
+    EXPECT_TRUE(near(hits(R"(["Cube"])", true, b), T{7.5}));
 }
 
 }  // namespace

@@ -94,10 +94,11 @@ SceneSpec sceneOf(const std::string& objects, const std::string& shadows,
                       "camera": {"position": [-30, 24, 30], "target": [21, 24, 3.5],
                                  "up": [0, 0, 1], "fov_deg": 50},
                       "lights": [{"position": [%.17g, %.17g, %.17g], "intensity": 4000}],
-                      "backdrop": {"enabled": false}, "shadows": "%s",
+                      "backdrop": {"enabled": false}, "shadows": %s,
                       "volume": {"step_voxels": 0.1, "shading_roulette": 0%s},
                       "objects": [)",
-                  light.x, light.y, light.z, shadows.c_str(), volume.c_str());
+                  light.x, light.y, light.z,
+                  (shadows[0] == '{' ? shadows : '"' + shadows + '"').c_str(), volume.c_str());
     return parseScene(std::string(head) + objects + "]}", dataDir().string(), "shadows.json");
 }
 
@@ -200,6 +201,69 @@ TEST(Shadows, SlabTransmittanceIsTheExponentialOfItsOpticalDepth) {
     EXPECT_EQ(Tracer(sceneOf(slabObject(alpha), "off")).integrator.shadowCache(), nullptr);
 }
 
+// Surface hits reading the cache (the default "cached"): a hit interpolates only the nodes of its
+// cell on the light's side of its tangent plane (render/integrator.h, "Shadows"), so the floor
+// does not shadow itself (the nodes below z = 3.5 lie inside the opaque floor: T = 0), and away
+// from the shadow's edge (farther than a cell) the values are the closed forms of the exact test
+// above: 0 under the opaque sphere, (1 − 0.6)² under the glass one, 1 outside. The nodes are
+// exact shadow rays through the surfaces, stored as floats. At the edge the cache blurs the
+// shadow over about a node spacing; the exact-surface variant ("surfaces": "exact") keeps it
+// sharp.
+TEST(Shadows, CachedSurfaceShadowsAreTheClosedFormsAwayFromTheEdge) {
+    const double sinT = kR / (kLight - kC).length();
+    const double rs = (kLight.z - kFloorZ) * sinT / std::sqrt(1 - sinT * sinT);  // 6.178
+    for (const double opacity : {1.0, 0.6}) {
+        Tracer cached(sceneOf(floorObject() + "," + sphereObject(opacity),
+                              R"({"mode": "cached", "cache_voxels": 2})"));
+        Tracer off(sceneOf(floorObject() + "," + sphereObject(opacity), "off"));
+        ASSERT_NE(cached.integrator.shadowCache(), nullptr);
+        const double spacing = cached.integrator.shadowCache()->spacing();
+        EXPECT_EQ(spacing, 2.0);  // cache_voxels 2 of the unit voxels
+        const double inside = (1 - opacity) * (1 - opacity);
+        // Directions away from the sphere as the camera sees it (its rays reach the floor).
+        for (const double phi : {1.6, 2.6, 3.6, 4.7}) {
+            const Vec3 dir(std::cos(phi), std::sin(phi), 0);
+            // The nodes read lie at most one cell beside q in x and y (√2 spacings) and up to a
+            // spacing above it, where the shadow's disc is narrower by that height × tan θ
+            // (0.11 × 2): inside for r < 6.18 − 2.83 − 0.22, outside for r > 6.18 + 2.83.
+            for (const double r : {0.0, 1.5, 2.5, 10.0, 14.0, 20.0}) {
+                ASSERT_TRUE(r < rs - 1.7 * spacing || r > rs + 1.5 * spacing);
+                const Vec3 q = Vec3(kC.x, kC.y, kFloorZ) + dir * r;
+                Ray ray;
+                ray.o = Vec3(-30, 24, 30);
+                ray.d = normalized(q - ray.o);
+                const double lit = off.trace(ray)[0];
+                ASSERT_GT(lit, 0.0);
+                const double want = r < rs ? inside : 1.0;
+                EXPECT_NEAR(cached.trace(ray)[0] / lit, want, 1e-6)
+                    << "opacity " << opacity << ", phi " << phi << ", r " << r;
+            }
+        }
+    }
+}
+
+// The one-sided interpolation by hand: nodes 1 apart over [0, 2]³ holding x + 2z.
+TEST(Shadows, LookupAboveUsesTheNodesOnTheNormalsSideOnly) {
+    const ShadowCache cache(Vec3(0, 0, 0), Vec3(2, 2, 2), 1.0, 1);
+    const auto value = [](const Vec3& x) { return x.x + 2 * x.z; };
+    // Trilinear interpolation of a linear function is the function.
+    EXPECT_NEAR(cache.lookup(0, Vec3(0.5, 0.5, 0.25), value), 1.0, 1e-12);
+    // Above z = 0.25: the four nodes at z = 1, weights (1 − u)·(1 − v) … renormalised: x̄ = 0.5.
+    EXPECT_NEAR(cache.lookupAbove(0, Vec3(0.5, 0.5, 0.25), Vec3(0, 0, 1), value), 2.5, 1e-12);
+    // Below it (n = −z): the four at z = 0.
+    EXPECT_NEAR(cache.lookupAbove(0, Vec3(0.5, 0.5, 0.25), Vec3(0, 0, -1), value), 0.5, 1e-12);
+    // The plane x + z = 1 through the cell's centre: (1, y, 1) above it, (1, y, 0) and (0, y, 1)
+    // on it (not counted), (0, y, 0) below: only x + 2z = 3 remains.
+    EXPECT_NEAR(cache.lookupAbove(0, Vec3(0.5, 0.5, 0.5), normalized(Vec3(1, 0, 1)), value), 3.0,
+                1e-12);
+    // Off-centre, x = 0.2, y = 0.7, z = 0.4, n = +x: nodes at x = 1, weights (1 − v or v)·(1 − w
+    // or w), renormalised: 1 + 2·0.4.
+    EXPECT_NEAR(cache.lookupAbove(0, Vec3(0.2, 0.7, 0.4), Vec3(1, 0, 0), value), 1.8, 1e-12);
+    // On a cell face with n across it no node of the cell lies above (the ones at z = 1 have
+    // weight 0): negative, and the integrator steps to the next cell.
+    EXPECT_LT(cache.lookupAbove(0, Vec3(0.5, 0.5, 0.0), Vec3(0, 0, 1), value), 0.0);
+}
+
 Film renderOf(const RenderScene& scene, int threads, const AovRequest* request = nullptr,
               AovImage* passes = nullptr) {
     RenderOptions o;
@@ -211,7 +275,10 @@ Film renderOf(const RenderScene& scene, int threads, const AovRequest* request =
 TEST(Shadows, ImagesAreTheSameForAnyThreadCountAndPassesStillAddUp) {
     const std::string objects = floorObject() + "," + sphereObject(0.7) + "," + slabObject(0.05);
     std::map<std::string, double> effect;
-    for (const std::string mode : {"exact", "cached"}) {
+    // The caches at 2 unit voxels (the default 4 is coarse for a 16-voxel slab).
+    const std::string cached = R"({"mode": "cached", "cache_voxels": 2})";
+    const std::string sharp = R"({"mode": "cached", "cache_voxels": 2, "surfaces": "exact"})";
+    for (const std::string& mode : {std::string("exact"), cached, sharp}) {
         SCOPED_TRACE(mode);
         const RenderScene scene(sceneOf(objects, mode, Vec3(10, 20, 60)), false);
         const Film one = renderOf(scene, 1), two = renderOf(scene, 2);
@@ -243,7 +310,8 @@ TEST(Shadows, ImagesAreTheSameForAnyThreadCountAndPassesStillAddUp) {
     }
     // The cache darkens the image as exact shadow rays do (the slab's shadow falls on the floor,
     // outside the slab's box: the cache is read where the shadow ray enters the box), within 5 %.
-    EXPECT_NEAR(effect["cached"], effect["exact"], 0.05 * effect["exact"]);
+    EXPECT_NEAR(effect[sharp], effect["exact"], 0.05 * effect["exact"]);
+    EXPECT_NEAR(effect[cached], effect["exact"], 0.05 * effect["exact"]);
 }
 
 TEST(Shadows, SceneKeysAndErrors) {
@@ -259,6 +327,9 @@ TEST(Shadows, SceneKeysAndErrors) {
     };
     EXPECT_EQ(error(R"("exact")"), "");
     EXPECT_EQ(error(R"({"mode": "cached", "cache_voxels": 4})"), "");
+    EXPECT_EQ(error(R"({"mode": "cached", "surfaces": "exact"})"), "");
+    EXPECT_NE(error(R"({"mode": "cached", "surfaces": "soft"})").find("shadows.surfaces"),
+              std::string::npos);
     EXPECT_NE(error(R"("soft")").find("shadows"), std::string::npos);
     EXPECT_NE(error(R"({"mode": "cached", "cache_voxels": 0})").find("cache_voxels"),
               std::string::npos);
