@@ -82,8 +82,9 @@ struct AffineMap {
         return map;
     }
 
+    // An OpenVDB transform's map, its linear part and offset times `scale` (a grid's world scale).
     static AffineMap fromTransform(const openvdb::math::Transform& xform,
-                                   const std::string& what = "grid transform") {
+                                   const std::string& what = "grid transform", double scale = 1.0) {
         if (!xform.isLinear())
             throw Error(what + ": only affine (linear) transforms are supported, not '" +
                         xform.mapType() + "'");
@@ -93,30 +94,16 @@ struct AffineMap {
             openvdb::Vec3d e(0, 0, 0);
             e[c] = 1.0;
             const openvdb::Vec3d col = xform.indexToWorld(e) - o;
-            for (int r = 0; r < 3; ++r) linear.m[r][c] = col[r];
+            for (int r = 0; r < 3; ++r) linear.m[r][c] = col[r] * scale;
         }
-        return fromMatrix(linear, Vec3(o[0], o[1], o[2]), what);
+        return fromMatrix(linear, Vec3(o[0] * scale, o[1] * scale, o[2] * scale), what);
     }
 
     // A grid's full map: its transform times its world scale (volume/grid_world.h; a power of
     // two, so the product is exact).
     static AffineMap fromGrid(const openvdb::GridBase& grid,
                               const std::string& what = "grid transform") {
-        const double s = gridWorldScale(grid);
-        if (s == 1.0) return fromTransform(grid.transform(), what);
-        const openvdb::math::Transform& xform = grid.transform();
-        if (!xform.isLinear())
-            throw Error(what + ": only affine (linear) transforms are supported, not '" +
-                        xform.mapType() + "'");
-        const openvdb::Vec3d o = xform.indexToWorld(openvdb::Vec3d(0, 0, 0));
-        Mat3 linear;
-        for (int c = 0; c < 3; ++c) {
-            openvdb::Vec3d e(0, 0, 0);
-            e[c] = 1.0;
-            const openvdb::Vec3d col = xform.indexToWorld(e) - o;
-            for (int r = 0; r < 3; ++r) linear.m[r][c] = col[r] * s;
-        }
-        return fromMatrix(linear, Vec3(o[0] * s, o[1] * s, o[2] * s), what);
+        return fromTransform(grid.transform(), what, gridWorldScale(grid));
     }
 };
 

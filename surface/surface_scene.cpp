@@ -97,17 +97,25 @@ void SurfaceScene::setMask(int id, std::function<bool(const Vec3&)> keeps) {
     throw Error("SurfaceScene::setMask: no object " + std::to_string(id));
 }
 
-void SurfaceScene::fillClips(const Ray& ray, RayContext& ctx, std::vector<ClipIntervals>& buffer,
-                             std::vector<const ClipIntervals*>& pointers) const {
-    buffer.resize(clipOfGeom_.size());
-    pointers.assign(clipOfGeom_.size(), nullptr);
-    for (size_t g = 0; g < clipOfGeom_.size(); ++g)
-        if (!clipOfGeom_[g].empty()) {
-            buffer[g] = clipRay(ray, clipOfGeom_[g]);
-            pointers[g] = &buffer[g];
-        }
-    ctx.clips = pointers.data();
-    ctx.clipCount = unsigned(pointers.size());
+void SurfaceScene::beginQuery(const Ray& ray, RayContext& ctx) const {
+    rtcInitIntersectContext(&ctx.base);
+    ctx.ray = &ray;
+    if (anyClip_) {
+        // The clip intervals of every clipped geometry, in the thread's buffers (queries of one
+        // thread never overlap).
+        thread_local std::vector<ClipIntervals> buffer;
+        thread_local std::vector<const ClipIntervals*> pointers;
+        buffer.resize(clipOfGeom_.size());
+        pointers.assign(clipOfGeom_.size(), nullptr);
+        for (size_t g = 0; g < clipOfGeom_.size(); ++g)
+            if (!clipOfGeom_[g].empty()) {
+                buffer[g] = clipRay(ray, clipOfGeom_[g]);
+                pointers[g] = &buffer[g];
+            }
+        ctx.clips = pointers.data();
+        ctx.clipCount = unsigned(pointers.size());
+    }
+    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
 }
 
 void SurfaceScene::commit() {
@@ -118,12 +126,7 @@ void SurfaceScene::commit() {
 std::optional<SurfaceHit> SurfaceScene::intersect(const Ray& ray) const {
     if (!committed_) throw Error("SurfaceScene::intersect: commit() was not called");
     RayContext ctx;
-    rtcInitIntersectContext(&ctx.base);
-    ctx.ray = &ray;
-    thread_local std::vector<ClipIntervals> clipBuffer;
-    thread_local std::vector<const ClipIntervals*> clipPointers;
-    if (anyClip_) fillClips(ray, ctx, clipBuffer, clipPointers);
-    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
+    beginQuery(ray, ctx);
     RTCRayHit rh;
     fillEmbreeRay(ray, rh.ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -144,12 +147,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Ray& ray) const {
 bool SurfaceScene::occluded(const Ray& ray) const {
     if (!committed_) throw Error("SurfaceScene::occluded: commit() was not called");
     RayContext ctx;
-    rtcInitIntersectContext(&ctx.base);
-    ctx.ray = &ray;
-    thread_local std::vector<ClipIntervals> clipBuffer;
-    thread_local std::vector<const ClipIntervals*> clipPointers;
-    if (anyClip_) fillClips(ray, ctx, clipBuffer, clipPointers);
-    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
+    beginQuery(ray, ctx);
     RTCRay r;
     fillEmbreeRay(ray, r);
     rtcOccluded1(scene_.get(), &ctx.base, &r);
@@ -209,13 +207,8 @@ void SurfaceScene::collectHits(const Ray& ray, const std::vector<double>& object
     out.tMin = ray.tMin;
     out.tMax = ray.tMax;
     RayContext ctx;
-    rtcInitIntersectContext(&ctx.base);
-    ctx.ray = &ray;
+    beginQuery(ray, ctx);
     ctx.collector = &out;
-    thread_local std::vector<ClipIntervals> clipBuffer;
-    thread_local std::vector<const ClipIntervals*> clipPointers;
-    if (anyClip_) fillClips(ray, ctx, clipBuffer, clipPointers);
-    if (!maskOfGeom_.empty()) ctx.masks = &maskOfGeom_;
     RTCRayHit rh;
     fillEmbreeRay(ray, rh.ray);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;

@@ -164,9 +164,9 @@ private:
     std::vector<std::vector<ClipShape>> clipOfGeom_;  // by Embree geometry ID
     bool anyClip_ = false;
     std::vector<std::function<bool(const Vec3&)>> maskOfGeom_;  // by Embree geometry ID
-    // The clip intervals of `ray` for every clipped geometry into ctx (storage in `buffer`).
-    void fillClips(const Ray& ray, RayContext& ctx, std::vector<ClipIntervals>& buffer,
-                   std::vector<const ClipIntervals*>& pointers) const;
+    // Starts a query's context for `ray`: Embree's context, the ray, the clip intervals of every
+    // clipped geometry and the masks (for intersect, occluded and collectHits alike).
+    void beginQuery(const Ray& ray, RayContext& ctx) const;
     bool committed_ = false;
 };
 
