@@ -363,6 +363,16 @@ void runRender(const RenderCommand& cmd, std::vector<RenderedImage>* rendered) {
             });
         pilot->profileFirst(volumes, assembled);
         progress.setSchedule(&pilot->schedule());
+        // The loads to come are in the ETA too: one per scene assembled (an orbit's frames share
+        // one; the pilot's pause is the first scene's). With --skip-existing some never come.
+        if (!cmd.skipExisting) {
+            int loads = 1;
+            for (size_t i = 1; i < specs.size(); ++i)
+                if (!(cmd.orbit > 0 && specs[i].path == specs[i - 1].path &&
+                      specs[i].group == specs[i - 1].group))
+                    ++loads;
+            progress.expectLoads(loads);
+        }
         progress.resume();
     }
     for (size_t i = 0; i < specs.size(); ++i) {

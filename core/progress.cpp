@@ -97,6 +97,11 @@ double remainingSeconds(double elapsed, double fraction) {
     return elapsed * (1.0 - std::min(fraction, 1.0)) / fraction;
 }
 
+double remainingLoadSeconds(double loadSeconds, int loadsDone, int loadsExpected) {
+    if (loadsDone <= 0 || loadsExpected <= loadsDone) return 0.0;
+    return loadSeconds / loadsDone * (loadsExpected - loadsDone);
+}
+
 ProgressReporter::ProgressReporter(std::string label, int64_t totalUnits, bool enabled)
     : label_(std::move(label)),
       total_(totalUnits > 0 ? totalUnits : 1),
@@ -126,6 +131,12 @@ void ProgressReporter::resume() {
     paused_ = false;
     pausedSeconds_ +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - pausedAt_).count();
+    ++loadsDone_;
+}
+
+void ProgressReporter::expectLoads(int loads) {
+    std::lock_guard<std::mutex> lock(clockMutex_);
+    loadsExpected_ = loads;
 }
 
 void ProgressReporter::setSchedule(const CostSchedule* schedule) {
@@ -178,8 +189,13 @@ void ProgressReporter::print(int64_t done, bool final) {
         }
         if (paused > 0.0) tail += " (+ " + formatDuration(paused) + " loading)";
     } else if (fraction > 0.0) {
+        double loadsLeft;
+        {
+            std::lock_guard<std::mutex> lock(clockMutex_);
+            loadsLeft = remainingLoadSeconds(pausedSeconds_, loadsDone_, loadsExpected_);
+        }
         tail = formatDuration(elapsed) + " elapsed, ETA " +
-               formatDuration(remainingSeconds(elapsed, fraction));
+               formatDuration(remainingSeconds(elapsed, fraction) + loadsLeft);
     }
     if (terminal_) {
         constexpr int kWidth = 30;

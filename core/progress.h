@@ -61,6 +61,11 @@ private:
 // (1 − f)/f; infinite before anything is done.
 double remainingSeconds(double elapsed, double fraction);
 
+// Seconds of loading still to come when `loadsDone` of `loadsExpected` loads (a batch assembling
+// its scenes between renders) took `loadSeconds`: the loads left at the mean of those done; 0 when
+// none is expected or none is done yet.
+double remainingLoadSeconds(double loadSeconds, int loadsDone, int loadsExpected);
+
 class ProgressReporter {
 public:
     // enabled = false prints nothing at all (tests, benchmarks, --quiet).
@@ -78,6 +83,10 @@ public:
     // line shows it apart ("done in 20.1 s (+ 1.3 s loading)").
     void pause();
     void resume();
+    // How many pauses (loads) the whole run will take: the ETA then adds the loads still to come
+    // at the mean time of those done (remainingLoadSeconds), so a batch whose scenes take longer
+    // to assemble than to render is not promised too early an end. 0 (the default): none added.
+    void expectLoads(int loads);
     // From now on the share done — the bar's percentage and the ETA — is the schedule's
     // fractionDone of the units done (its totalUnits should be this reporter's total). The
     // schedule must outlive the reporter's use; set it before the work starts.
@@ -102,6 +111,8 @@ private:
     int lastDecile_ = 0;  // a log gets its first line after a tenth of the work
     mutable std::mutex clockMutex_;
     double pausedSeconds_ = 0.0;
+    int loadsDone_ = 0;      // pauses ended
+    int loadsExpected_ = 0;  // expectLoads
     bool paused_ = false;
     std::chrono::steady_clock::time_point pausedAt_;
 };

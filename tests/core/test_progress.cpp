@@ -77,6 +77,14 @@ TEST(CostSchedule, RemainingSeconds) {
     EXPECT_TRUE(std::isinf(remainingSeconds(10.0, 0.0)));
 }
 
+TEST(CostSchedule, RemainingLoadSeconds) {
+    // 3 of 24 scenes assembled in 0.9 s: 21 more at 0.3 s each.
+    EXPECT_DOUBLE_EQ(remainingLoadSeconds(0.9, 3, 24), 21 * 0.3);
+    EXPECT_DOUBLE_EQ(remainingLoadSeconds(0.9, 3, 3), 0.0);   // all done
+    EXPECT_DOUBLE_EQ(remainingLoadSeconds(0.9, 3, 0), 0.0);   // none expected (no batch)
+    EXPECT_DOUBLE_EQ(remainingLoadSeconds(0.0, 0, 24), 0.0);  // nothing measured yet
+}
+
 TEST(CostSchedule, ReporterUsesTheSchedule) {
     CostSchedule s;
     s.addPart(100, 1.0);
