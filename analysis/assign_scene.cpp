@@ -4,6 +4,7 @@
 #include "analysis/overlap_report.h"
 #include "analysis/scene_passes.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/temporary_file.h"
 #include "materials/registry.h"
 #include "render/render_scene.h"
@@ -22,12 +23,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string fmt(const char* f, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-
 std::string modelTitle(const BrdfCandidate& c) {
     std::string t = c.brdf ? brdfName(*c.brdf) : c.model;
     try {
@@ -35,7 +30,7 @@ std::string modelTitle(const BrdfCandidate& c) {
     } catch (const Error&) {
     }
     for (const std::string& x : c.settings) t += " " + x;
-    if (c.albedo > 0.0) t += " a=" + fmt("%g", c.albedo);
+    if (c.albedo > 0.0) t += " a=" + formatNumber("%g", c.albedo);
     return t;
 }
 
@@ -292,11 +287,11 @@ void assignScene(const AssignRequest& cmd) {
                 const ObjectVisibility& v = near.objects[i];
                 std::string what;
                 if (i < search.minVisibility.size() && v.visibility < search.minVisibility[i])
-                    what += " V " + fmt("%.3g", v.visibility) + " < " +
-                            fmt("%.3g", search.minVisibility[i]);
+                    what += " V " + formatNumber("%.3g", v.visibility) + " < " +
+                            formatNumber("%.3g", search.minVisibility[i]);
                 if (i < search.minChroma.size() && v.chroma < search.minChroma[i])
-                    what +=
-                        " C* " + fmt("%.3g", v.chroma) + " < " + fmt("%.3g", search.minChroma[i]);
+                    what += " C* " + formatNumber("%.3g", v.chroma) + " < " +
+                            formatNumber("%.3g", search.minChroma[i]);
                 if (i < search.minLuminance.size() && (v.meanLuminance < search.minLuminance[i] ||
                                                        v.meanLuminance > search.maxLuminance[i]))
                     what += " Y out of the band";
@@ -307,7 +302,7 @@ void assignScene(const AssignRequest& cmd) {
         }
         throw Error(
             "no assignment keeps every object's visibility and chroma at " +
-            fmt("%g", cmd.keepFraction) + " of the input's" +
+            formatNumber("%g", cmd.keepFraction) + " of the input's" +
             (cmd.brightnessBand > 0.0 ? " and its luminance in the band" : std::string()) +
             (cmd.distinct ? " with distinct models" : std::string()) +
             (short_.empty() ? std::string() : " (the nearest found falls short on" + short_ + ")") +
@@ -318,30 +313,31 @@ void assignScene(const AssignRequest& cmd) {
     std::string md =
         "# BRDF assignment: " + full.title + "\n\nScene `" + cmd.scene + "`; layers rendered at " +
         std::to_string(spec.width) + "×" + std::to_string(spec.height) + ", " +
-        std::to_string(spec.samplesPerPixel) + " spp in " + fmt("%.1f", renderSeconds) + " s; " +
-        std::to_string(candidates.size()) + " candidate BRDFs" +
-        (albedo > 0.0
-             ? ", every lobe scaled to albedo " + fmt("%g", albedo) + " at normal incidence"
-             : std::string()) +
+        std::to_string(spec.samplesPerPixel) + " spp in " + formatNumber("%.1f", renderSeconds) +
+        " s; " + std::to_string(candidates.size()) + " candidate BRDFs" +
+        (albedo > 0.0 ? ", every lobe scaled to albedo " + formatNumber("%g", albedo) +
+                            " at normal incidence"
+                      : std::string()) +
         "; " +
         (result.exhaustive ? "exhaustive search"
                            : "local search (coordinate ascent, " +
                                  std::to_string(search.restarts + 1) + " starts)") +
         " over " + std::to_string(result.space) + " assignments, " +
         std::to_string(result.evaluated) + " scored (" + std::to_string(result.rejected) +
-        " broke a constraint) in " + fmt("%.2f", searchSeconds) +
+        " broke a constraint) in " + formatNumber("%.2f", searchSeconds) +
         " s. Score: the separation score, metric " + cmd.metric +
         " (docs/separation.md). Constraints: " +
         (cmd.keepFraction > 0.0 ? "every object's visibility V and chroma C* at least " +
-                                      fmt("%g", cmd.keepFraction) + " of the input's"
+                                      formatNumber("%g", cmd.keepFraction) + " of the input's"
                                 : std::string("none on visibility and chroma")) +
-        (cmd.brightnessBand > 0.0 ? "; mean luminance within ×1/" + fmt("%g", cmd.brightnessBand) +
-                                        " … ×" + fmt("%g", cmd.brightnessBand) + " of the input's"
-                                  : std::string()) +
+        (cmd.brightnessBand > 0.0
+             ? "; mean luminance within ×1/" + formatNumber("%g", cmd.brightnessBand) + " … ×" +
+                   formatNumber("%g", cmd.brightnessBand) + " of the input's"
+             : std::string()) +
         (cmd.distinct ? "; no two objects share a model" : std::string()) + ".\n\n";
     if (!sparkleNote.empty())
-        md += "Not offered (sparkle: more than " + fmt("%.0f", 100 * kSparkleLimit) +
-              " % of the highlight in isolated pixels, " + fmt("%g", kSparklePeak) +
+        md += "Not offered (sparkle: more than " + formatNumber("%.0f", 100 * kSparkleLimit) +
+              " % of the highlight in isolated pixels, " + formatNumber("%g", kSparklePeak) +
               "× the mean of their neighbours, and twice the least specky default model's):" +
               sparkleNote + "\n\n";
     md += "| rank | score |";
@@ -350,7 +346,8 @@ void assignScene(const AssignRequest& cmd) {
     for (size_t i = 0; i < k; ++i) md += "---|";
     md += "\n";
     for (size_t r = 0; r < result.ranked.size(); ++r) {
-        md += "| " + std::to_string(r + 1) + " | " + fmt("%.4g", result.ranked[r].score) + " |";
+        md += "| " + std::to_string(r + 1) + " | " + formatNumber("%.4g", result.ranked[r].score) +
+              " |";
         for (int c : result.ranked[r].assignment) md += " " + candidates[size_t(c)].label() + " |";
         md += "\n";
     }
@@ -358,8 +355,8 @@ void assignScene(const AssignRequest& cmd) {
     const SeparationReport before = measureSeparation(inputLayers);
     const SeparationReport after = assignmentReport(weber, layers, best.assignment);
     md +=
-        "\n## Before and after, per object\n\nInput: score " + fmt("%.4g", input.score) +
-        "; chosen: " + fmt("%.4g", best.score) +
+        "\n## Before and after, per object\n\nInput: score " + formatNumber("%.4g", input.score) +
+        "; chosen: " + formatNumber("%.4g", best.score) +
         ". V: visibility (share of the pixel, "
         "docs/separation.md); C*: mean CIELAB chroma where the object shows; Y: its mean "
         "luminance there.\n\n| object | input model | chosen model | V before | V after | ratio | "
@@ -369,19 +366,21 @@ void assignScene(const AssignRequest& cmd) {
         const ObjectVisibility& b = before.objects[i];
         const ObjectVisibility& a = after.objects[i];
         const auto ratio = [](double x, double y) {
-            return y > 0.0 ? fmt("%.2f", x / y) : std::string("—");
+            return y > 0.0 ? formatNumber("%.2f", x / y) : std::string("—");
         };
         md += "| " + spec.objects[i].name + " | " + spec.objects[i].brdfModel + " | " +
-              candidates[size_t(best.assignment[i])].label() + " | " + fmt("%.3f", b.visibility) +
-              " | " + fmt("%.3f", a.visibility) + " | " + ratio(a.visibility, b.visibility) +
-              " | " + fmt("%.1f", b.chroma) + " | " + fmt("%.1f", a.chroma) + " | " +
-              ratio(a.chroma, b.chroma) + " | " + ratio(a.meanLuminance, b.meanLuminance) + " |\n";
+              candidates[size_t(best.assignment[i])].label() + " | " +
+              formatNumber("%.3f", b.visibility) + " | " + formatNumber("%.3f", a.visibility) +
+              " | " + ratio(a.visibility, b.visibility) + " | " + formatNumber("%.1f", b.chroma) +
+              " | " + formatNumber("%.1f", a.chroma) + " | " + ratio(a.chroma, b.chroma) + " | " +
+              ratio(a.meanLuminance, b.meanLuminance) + " |\n";
     }
     if (hasCurrent) {
         const double score =
             assignmentReport(SeparationScorer(layers.scene, threshold, metric), layers, current)
                 .score;
-        md += "\nThe scene's own assignment scores " + fmt("%.4g", score) + " from the layers";
+        md += "\nThe scene's own assignment scores " + formatNumber("%.4g", score) +
+              " from the layers";
         if (result.exhaustive)
             md += ", rank " + std::to_string(countBetter(layers, search, current) + 1) + " of " +
                   std::to_string(result.space) + " (among the admissible ones)";

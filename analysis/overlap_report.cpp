@@ -3,6 +3,7 @@
 #include "analysis/overlap_report.h"
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/image_output.h"
 #include "core/math.h"
 #include "core/spectrum.h"
@@ -21,12 +22,6 @@ namespace lobe {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
 
 // Linear-sRGB value of an sRGB-encoded 8-bit component (IEC 61966-2-1 inverse transfer).
 double srgbDecode(double c) {
@@ -84,9 +79,9 @@ std::string overlapCsv(const std::vector<PairScore>& pairs) {
     for (const char* p : kStandardPrimitiveNames) out += std::string(",") + p;
     out += "\n";
     for (const PairScore& p : pairs) {
-        out += std::to_string(p.rank) + "," + fmt("%.9g", p.score) + "," + p.modelA + "," +
-               p.modelB + "," + fmt("%.9g", p.scoreMse);
-        for (double v : p.perPrimitive) out += "," + fmt("%.9g", v);
+        out += std::to_string(p.rank) + "," + formatNumber("%.9g", p.score) + "," + p.modelA + "," +
+               p.modelB + "," + formatNumber("%.9g", p.scoreMse);
+        for (double v : p.perPrimitive) out += "," + formatNumber("%.9g", v);
         out += "\n";
     }
     return out;
@@ -102,9 +97,9 @@ std::string overlapMarkdown(const std::vector<PairScore>& pairs, const std::stri
     out += "| rank | score | model A | model B | score (mse) | sphere | torus | superquadric |\n";
     out += "|---:|---:|---|---|---:|---:|---:|---:|\n";
     for (const PairScore& p : pairs) {
-        out += "| " + std::to_string(p.rank) + " | " + fmt("%.4g", p.score) + " | " + p.modelA +
-               " | " + p.modelB + " | " + fmt("%.4g", p.scoreMse);
-        for (double v : p.perPrimitive) out += " | " + fmt("%.4g", v);
+        out += "| " + std::to_string(p.rank) + " | " + formatNumber("%.4g", p.score) + " | " +
+               p.modelA + " | " + p.modelB + " | " + formatNumber("%.4g", p.scoreMse);
+        for (double v : p.perPrimitive) out += " | " + formatNumber("%.4g", v);
         out += " |\n";
     }
     return out;
@@ -142,7 +137,7 @@ RgbImage overlapHeatmap(const std::vector<PairScore>& pairs,
             }
             const double x = hi > lo ? (v - lo) / (hi - lo) : 0.5;
             fillRect(img, x0 + 1, y0 + 1, x0 + kCell - 1, y0 + kCell - 1, viridis(x));
-            drawText(img, x0 + kCell / 2, y0 + kCell / 2 + 5, fmt("%.3g", v), 13,
+            drawText(img, x0 + kCell / 2, y0 + kCell / 2 + 5, formatNumber("%.3g", v), 13,
                      x > 0.6 ? black : white, true);
         }
     }
@@ -150,8 +145,8 @@ RgbImage overlapHeatmap(const std::vector<PairScore>& pairs,
     const int barY = kTop + n * kCell + 12, barW = n * kCell;
     for (int x = 0; x < barW; ++x)
         fillRect(img, kLeft + x, barY, kLeft + x + 1, barY + 14, viridis(double(x) / (barW - 1)));
-    drawText(img, kLeft, barY + 34, fmt("%.3g", lo) + " (much overlap)", 13, black);
-    drawText(img, kLeft + barW - 150, barY + 34, fmt("%.3g", hi) + " (apart)", 13, black);
+    drawText(img, kLeft, barY + 34, formatNumber("%.3g", lo) + " (much overlap)", 13, black);
+    drawText(img, kLeft + barW - 150, barY + 34, formatNumber("%.3g", hi) + " (apart)", 13, black);
     return img;
 }
 
@@ -186,9 +181,10 @@ std::string studyMarkdown(const std::vector<StudyRow>& rows) {
         "|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|\n";
     for (const StudyRow& r : rows) {
         out += "| " + std::to_string(r.size) + "² | " + std::to_string(r.samplesPerPixel) + " | " +
-               fmt("%.2f", r.seconds) + " | " + fmt("%.2f", r.cpuSeconds) + " | " +
-               fmt("%.2e", r.meanRelChange) + " | " + fmt("%.2e", r.maxRelChange) + " | " +
-               fmt("%.4f", r.agreement.kendallTau) + " | " +
+               formatNumber("%.2f", r.seconds) + " | " + formatNumber("%.2f", r.cpuSeconds) +
+               " | " + formatNumber("%.2e", r.meanRelChange) + " | " +
+               formatNumber("%.2e", r.maxRelChange) + " | " +
+               formatNumber("%.4f", r.agreement.kendallTau) + " | " +
                std::to_string(r.agreement.discordant) + " / " +
                std::to_string(r.agreement.comparable) + " | " + (r.sameBest ? "yes" : "no") +
                " | " + (r.sameWorst ? "yes" : "no") + " |\n";

@@ -2,6 +2,7 @@
 
 #include "analysis/colour.h"
 #include "core/error.h"
+#include "core/format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -322,32 +323,26 @@ const char* separationMetricName(SeparationMetric metric) {
     return metric == SeparationMetric::Itp ? "itp" : "weber";
 }
 
-namespace {
-
-std::string fmt(const char* f, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
-
-}  // namespace
-
 std::string separationCsv(const SeparationReport& r, const std::vector<std::string>& objects) {
     std::string out =
         "kind,a,b,score,visible_share,specular_share,mean_specular_contrast,area_a,area_b,"
         "visibility,matte_visibility,veiling,identity,matte_identity,chroma,quality,highlight\n";
     for (const ObjectVisibility& v : r.objects)
-        out += "object," + v.name + ",,," + fmt("%.6g", v.visibleShare) + "," +
-               fmt("%.6g", v.specularShare) + "," + fmt("%.6g", v.meanSpecularContrast) + ",,," +
-               fmt("%.6g", v.visibility) + "," + fmt("%.6g", v.matteVisibility) + "," +
-               fmt("%.6g", v.veiling) + "," + (v.chromatic ? fmt("%.6g", v.identity) : "") + "," +
-               (v.chromatic ? fmt("%.6g", v.matteIdentity) : "") + "," + fmt("%.6g", v.chroma) +
-               "," + fmt("%.6g", v.quality) + ",\n";
+        out += "object," + v.name + ",,," + formatNumber("%.6g", v.visibleShare) + "," +
+               formatNumber("%.6g", v.specularShare) + "," +
+               formatNumber("%.6g", v.meanSpecularContrast) + ",,," +
+               formatNumber("%.6g", v.visibility) + "," + formatNumber("%.6g", v.matteVisibility) +
+               "," + formatNumber("%.6g", v.veiling) + "," +
+               (v.chromatic ? formatNumber("%.6g", v.identity) : "") + "," +
+               (v.chromatic ? formatNumber("%.6g", v.matteIdentity) : "") + "," +
+               formatNumber("%.6g", v.chroma) + "," + formatNumber("%.6g", v.quality) + ",\n";
     for (const PairSeparation& p : r.pairs)
         out += "pair," + objects[size_t(p.a)] + "," + objects[size_t(p.b)] + "," +
-               fmt("%.6g", p.score) + ",,,," + std::to_string(p.metric.areaA) + "," +
-               std::to_string(p.metric.areaB) + ",,,,,,,," + fmt("%.6g", p.metric.eSum) + "\n";
-    out += "scene,,," + fmt("%.6g", r.score) + ",,,,,,,,,,,,," + fmt("%.6g", r.highlight) + "\n";
+               formatNumber("%.6g", p.score) + ",,,," + std::to_string(p.metric.areaA) + "," +
+               std::to_string(p.metric.areaB) + ",,,,,,,," + formatNumber("%.6g", p.metric.eSum) +
+               "\n";
+    out += "scene,,," + formatNumber("%.6g", r.score) + ",,,,,,,,,,,,," +
+           formatNumber("%.6g", r.highlight) + "\n";
     return out;
 }
 
@@ -355,13 +350,13 @@ std::string separationMarkdown(const SeparationReport& r, const std::vector<std:
                                const std::string& title) {
     const bool itp = r.metric == SeparationMetric::Itp;
     std::string out = "# Separation: " + title + "\n\nScene score (mean over pairs): **" +
-                      fmt("%.4g", r.score) + "**";
+                      formatNumber("%.4g", r.score) + "**";
     if (itp)
-        out += "; metric: ΔE_ITP detection maps (BT.2124), threshold " + fmt("%.3g", r.threshold) +
-               " (docs/separation.md).\n\n";
+        out += "; metric: ΔE_ITP detection maps (BT.2124), threshold " +
+               formatNumber("%.3g", r.threshold) + " (docs/separation.md).\n\n";
     else
-        out += " (highlight term alone " + fmt("%.4g", r.highlight) +
-               "); threshold: Weber contrast " + fmt("%.3g", r.threshold) +
+        out += " (highlight term alone " + formatNumber("%.4g", r.highlight) +
+               "); threshold: Weber contrast " + formatNumber("%.3g", r.threshold) +
                " (docs/separation.md).\n\n";
     out +=
         "| object | visibility V | matte V0 | veiling W | identity I | matte I0 | chroma C* | "
@@ -369,19 +364,20 @@ std::string separationMarkdown(const SeparationReport& r, const std::vector<std:
         std::string(itp ? "ΔE_ITP" : "contrast") +
         " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const ObjectVisibility& v : r.objects)
-        out += "| " + v.name + " | " + fmt("%.3f", v.visibility) + " | " +
-               fmt("%.3f", v.matteVisibility) + " | " + fmt("%.3f", v.veiling) + " | " +
-               (v.chromatic ? fmt("%.3f", v.identity) : std::string("— (achromatic)")) + " | " +
-               (v.chromatic ? fmt("%.3f", v.matteIdentity) : std::string("—")) + " | " +
-               fmt("%.1f", v.chroma) + " | " + fmt("%.3f", v.quality) + " | " +
-               fmt("%.1f %%", 100 * v.specularShare) + " | " + fmt("%.3f", v.meanSpecularContrast) +
-               " |\n";
+        out += "| " + v.name + " | " + formatNumber("%.3f", v.visibility) + " | " +
+               formatNumber("%.3f", v.matteVisibility) + " | " + formatNumber("%.3f", v.veiling) +
+               " | " +
+               (v.chromatic ? formatNumber("%.3f", v.identity) : std::string("— (achromatic)")) +
+               " | " + (v.chromatic ? formatNumber("%.3f", v.matteIdentity) : std::string("—")) +
+               " | " + formatNumber("%.1f", v.chroma) + " | " + formatNumber("%.3f", v.quality) +
+               " | " + formatNumber("%.1f %%", 100 * v.specularShare) + " | " +
+               formatNumber("%.3f", v.meanSpecularContrast) + " |\n";
     out +=
         "\n| pair | score | highlight e | highlight pixels A | highlight pixels B |\n"
         "|---|---:|---:|---:|---:|\n";
     for (const PairSeparation& p : r.pairs)
         out += "| " + objects[size_t(p.a)] + " / " + objects[size_t(p.b)] + " | " +
-               fmt("%.4g", p.score) + " | " + fmt("%.4g", p.metric.eSum) + " | " +
+               formatNumber("%.4g", p.score) + " | " + formatNumber("%.4g", p.metric.eSum) + " | " +
                std::to_string(p.metric.areaA) + " | " + std::to_string(p.metric.areaB) + " |\n";
     return out;
 }
