@@ -21,6 +21,12 @@ namespace lobe::user_geometry {
 
 // The ray of lane i: the caller's double ray when SurfaceScene passed one (single rays), else
 // Embree's float copy. tMax also respects the best double hit recorded so far.
+// The smallest float not below t (Embree's tfar for a double hit distance t).
+inline float floatAtLeast(double t) {
+    const float f = static_cast<float>(t);
+    return double(f) < t ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
 inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx, Vec3& o, Vec3& d,
                     double& tMin, double& tMax) {
     const double tfar = RTCRayN_tfar(ray, N, i);
@@ -116,7 +122,10 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
             continue;
         // No geometric normal: nothing reads Embree's Ng (shade() computes the shading normal
         // once, for the hit that wins), so none is computed for every candidate hit.
-        RTCRayN_tfar(ray, args->N, i) = static_cast<float>(t);
+        // Embree's tfar is a float: rounded up, never down, so that a root of another user
+        // geometry between float(t) and t (within one float step of this one) is still searched
+        // for; laneRay bounds that search by the double tHit, so the nearer root wins.
+        RTCRayN_tfar(ray, args->N, i) = floatAtLeast(t);
         RTCHitN_Ng_x(hit, args->N, i) = 0.0f;
         RTCHitN_Ng_y(hit, args->N, i) = 0.0f;
         RTCHitN_Ng_z(hit, args->N, i) = 0.0f;
