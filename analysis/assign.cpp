@@ -117,8 +117,8 @@ std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
         if (o < options.fixed.size() && options.fixed[o] >= 0) continue;
         std::vector<bool>& allowed = options.objectAllowed[o];
         if (allowed.size() != m) allowed.assign(m, true);
-        std::vector<double> share(m), glint(m, 0.0);
-        double least = 1.0, leastGlint = 1.0;
+        std::vector<double> share(m), glint(m, 0.0), referenceGlints;
+        double least = 1.0;
         for (size_t c = 0; c < m; ++c) {
             const std::vector<float>& layer = layers.layer(int(o), int(c));
             share[c] = sparkleShare(layer.data(), width, height);
@@ -127,21 +127,28 @@ std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
                                       height, matte);
             if (reference[c]) {
                 least = std::min(least, share[c]);
-                leastGlint = std::min(leastGlint, glint[c]);
+                referenceGlints.push_back(glint[c]);
             }
+        }
+        // The typical default's glint share (the lower median): a count of a few pixels on a
+        // small structure or coarse layers, where the least of nine is often 0 by chance.
+        double typicalGlint = 1.0;
+        if (!referenceGlints.empty()) {
+            std::sort(referenceGlints.begin(), referenceGlints.end());
+            typicalGlint = referenceGlints[(referenceGlints.size() - 1) / 2];
         }
         for (size_t c = 0; c < m; ++c) {
             const bool specks = share[c] > kSparkleLimit && share[c] > 2.0 * least;
-            const bool glints = glint[c] > kGlintLimit && glint[c] > 2.0 * leastGlint;
+            const bool glints = glint[c] > kGlintLimit && glint[c] > 2.0 * typicalGlint;
             if (allowed[c] && (specks || glints)) {
                 allowed[c] = false;
                 char buf[160];
                 if (nextSeed)
                     std::snprintf(buf, sizeof buf,
-                                  " (%.0f %% in specks, %.1f %% glints; the least default %.0f "
-                                  "%%, %.1f %%)",
+                                  " (%.0f %% in specks, %.1f %% glints; the least specky "
+                                  "default %.0f %%, the median default %.1f %% glints)",
                                   100.0 * share[c], 100.0 * glint[c], 100.0 * least,
-                                  100.0 * leastGlint);
+                                  100.0 * typicalGlint);
                 else
                     std::snprintf(buf, sizeof buf,
                                   " (%.0f %% in specks; the least default %.0f %%)",

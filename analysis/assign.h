@@ -62,7 +62,7 @@ double glintShare(const float* rgbA, const float* rgbB, int width, int height,
 // that comes and goes with the samples.
 constexpr double kGlintContrast = 0.2;
 // `lobe assign` does not offer a candidate for an object when more than this share of its seen
-// highlight glints (and more than twice the least glinting default model's share there).
+// highlight glints (and more than twice the median default model's share there).
 constexpr double kGlintLimit = 0.03;
 
 // The layers with `members` summed into one object `name` (analysis/separation.h mergeObjects).
@@ -98,15 +98,19 @@ struct AssignOptions {
 // No sparkle, whatever the candidates (defaults, --tune variants, lobes scaled to equal albedo):
 // for every free object (options.fixed −1), a candidate is not offered when
 // - more than kSparkleLimit of its highlight there is specks (sparkleShare on its layer: a
-//   highlight narrower than a pixel), or
+//   highlight narrower than a pixel) and more than twice the least specky `reference`
+//   candidate's share there, or
 // - with `nextSeed` (the same layers rendered at another seed), more than kGlintLimit of its seen
-//   highlight glints (glintShare: specks that come and go with the samples),
-// and more than twice the least such `reference` candidate's share there (the nine models at
-// their defaults; on a structure a few pixels across every highlight is a speck, and the
-// defaults stay). Sets options.objectAllowed; returns one line per candidate not offered,
-// "object: candidate (NN % in specks, NN % glints; the least default NN %)". sparkleShare does
-// not depend on the layer's scale, so an equal-albedo lobe is judged by its shape; glintShare
-// does where the lobe is dim against the pixel (a glint not seen does not count).
+//   highlight glints (glintShare: specks that come and go with the samples) and more than twice
+//   the median `reference` candidate's glint share there (the lower median: a glint share counts
+//   a few pixels on a small structure or coarse layers, and the least of nine is often 0 by
+//   chance).
+// `reference`: the nine models at their defaults; on a structure a few pixels across every
+// highlight is a speck and most glint, and the defaults stay. Sets options.objectAllowed; returns
+// one line per candidate not offered, "object: candidate (NN % in specks, NN % glints; …)".
+// sparkleShare does not depend on the layer's scale, so an equal-albedo lobe is judged by its
+// shape; glintShare does where the lobe is dim against the pixel (a glint not seen does not
+// count).
 std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
                                         const std::vector<bool>& reference, AssignOptions& options,
                                         const AssignmentLayers* nextSeed = nullptr);

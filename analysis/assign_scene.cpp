@@ -354,7 +354,8 @@ void assignScene(const AssignRequest& cmd) {
               formatNumber("%g", 100 * kGlintLimit) +
               " % of the seen highlight in glints, specks that change by " +
               formatNumber("%g", 100 * kGlintContrast) +
-              " % of the pixel between two seeds; each also twice the least default model's):" +
+              " % of the pixel between two seeds; each also twice the least specky, or the "
+              "median, default model's share):" +
               sparkleNote + "\n\n";
     md += "| rank | score |";
     for (const ObjectSpec& obj : spec.objects) md += " " + obj.name + " |";

@@ -469,6 +469,9 @@ TEST(Assign, GlintingCandidateIsNotOfferedThoughFewSpecks) {
     ASSERT_EQ(notes.size(), 1u);
     EXPECT_NE(notes[0].find("skull: glints"), std::string::npos) << notes[0];
     EXPECT_EQ(twoSeeds.objectAllowed[0], (std::vector<bool>{true, false}));
+    // Where the typical (median) default glints as much — here the only reference — it stays.
+    AssignOptions typical;
+    EXPECT_TRUE(excludeSparkle(a, {false, true}, typical, &b).empty());
     // Layers of another shape are refused.
     AssignmentLayers other = b;
     other.candidates.push_back("third");
