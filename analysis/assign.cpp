@@ -43,32 +43,119 @@ double sparkleShare(const float* rgb, int width, int height) {
     return specks / total;
 }
 
+namespace {
+
+// Whether pixel (px, py) of luminance image y is a speck: above kSparklePeak × the mean of its
+// (up to 8) neighbours.
+bool isSpeck(const std::vector<double>& y, int width, int height, int px, int py) {
+    double neighbour = 0.0;
+    int count = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int x = px + dx, yy = py + dy;
+            if ((dx || dy) && x >= 0 && yy >= 0 && x < width && yy < height) {
+                neighbour += y[size_t(yy) * size_t(width) + size_t(x)];
+                ++count;
+            }
+        }
+    return count > 0 &&
+           y[size_t(py) * size_t(width) + size_t(px)] > kSparklePeak * neighbour / count;
+}
+
+}  // namespace
+
+double glintShare(const float* rgbA, const float* rgbB, int width, int height,
+                  const std::vector<double>& matteY) {
+    const size_t n = size_t(width) * size_t(height);
+    if (matteY.size() != n) throw Error("internal: glintShare: one matte luminance per pixel");
+    std::vector<double> ya(n), yb(n);
+    for (size_t i = 0; i < n; ++i) {
+        ya[i] = srgbLuminance(rgbA[3 * i], rgbA[3 * i + 1], rgbA[3 * i + 2]);
+        yb[i] = srgbLuminance(rgbB[3 * i], rgbB[3 * i + 1], rgbB[3 * i + 2]);
+    }
+    double seen = 0.0, glints = 0.0;
+    for (int py = 0; py < height; ++py)
+        for (int px = 0; px < width; ++px) {
+            const size_t i = size_t(py) * size_t(width) + size_t(px);
+            const double s = 0.5 * (ya[i] + yb[i]), y = matteY[i] + s;
+            if (!(y > 0.0) || !(s >= kWeberContrast * y)) continue;
+            seen += 1.0;
+            if (std::abs(ya[i] - yb[i]) >= kGlintContrast * y &&
+                (isSpeck(ya, width, height, px, py) || isSpeck(yb, width, height, px, py)))
+                glints += 1.0;
+        }
+    return seen > 0.0 ? glints / seen : 0.0;
+}
+
 std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
-                                        const std::vector<bool>& reference,
-                                        AssignOptions& options) {
+                                        const std::vector<bool>& reference, AssignOptions& options,
+                                        const AssignmentLayers* nextSeed) {
     const size_t k = layers.objects().size(), m = layers.candidates.size();
     if (reference.size() != m) throw Error("internal: excludeSparkle: one flag per candidate");
     const int width = layers.scene.width, height = layers.scene.height;
+    if (nextSeed && (nextSeed->objects() != layers.objects() || nextSeed->candidates.size() != m ||
+                     nextSeed->scene.width != width || nextSeed->scene.height != height))
+        throw Error("internal: excludeSparkle: the second seed's layers differ in shape");
+    // The pixels' luminance without any highlight (every Lambert term and the backdrop), the
+    // same for every assignment: what a glint must stand out against.
+    std::vector<double> matte;
+    if (nextSeed) {
+        const size_t n = layers.pixelCount();
+        matte.assign(n, 0.0);
+        for (size_t i = 0; i < n; ++i) {
+            if (!layers.scene.backdrop.empty()) {
+                const float* b = &layers.scene.backdrop[3 * i];
+                matte[i] = srgbLuminance(b[0], b[1], b[2]);
+            }
+            for (const std::vector<float>& l : layers.scene.lambert)
+                matte[i] += srgbLuminance(l[3 * i], l[3 * i + 1], l[3 * i + 2]);
+        }
+    }
     if (options.objectAllowed.size() != k) options.objectAllowed.assign(k, {});
     std::vector<std::string> notes;
     for (size_t o = 0; o < k; ++o) {
         if (o < options.fixed.size() && options.fixed[o] >= 0) continue;
         std::vector<bool>& allowed = options.objectAllowed[o];
         if (allowed.size() != m) allowed.assign(m, true);
-        std::vector<double> share(m);
+        std::vector<double> share(m), glint(m, 0.0), referenceGlints;
         double least = 1.0;
         for (size_t c = 0; c < m; ++c) {
-            share[c] = sparkleShare(layers.layer(int(o), int(c)).data(), width, height);
-            if (reference[c]) least = std::min(least, share[c]);
+            const std::vector<float>& layer = layers.layer(int(o), int(c));
+            share[c] = sparkleShare(layer.data(), width, height);
+            if (nextSeed)
+                glint[c] = glintShare(layer.data(), nextSeed->layer(int(o), int(c)).data(), width,
+                                      height, matte);
+            if (reference[c]) {
+                least = std::min(least, share[c]);
+                referenceGlints.push_back(glint[c]);
+            }
         }
-        for (size_t c = 0; c < m; ++c)
-            if (allowed[c] && share[c] > kSparkleLimit && share[c] > 2.0 * least) {
+        // The typical default's glint share (the lower median): a count of a few pixels on a
+        // small structure or coarse layers, where the least of nine is often 0 by chance.
+        double typicalGlint = 1.0;
+        if (!referenceGlints.empty()) {
+            std::sort(referenceGlints.begin(), referenceGlints.end());
+            typicalGlint = referenceGlints[(referenceGlints.size() - 1) / 2];
+        }
+        for (size_t c = 0; c < m; ++c) {
+            const bool specks = share[c] > kSparkleLimit && share[c] > 2.0 * least;
+            const bool glints = glint[c] > kGlintLimit && glint[c] > 2.0 * typicalGlint;
+            if (allowed[c] && (specks || glints)) {
                 allowed[c] = false;
-                char buf[96];
-                std::snprintf(buf, sizeof buf, " (%.0f %% in specks; the least default %.0f %%)",
-                              100.0 * share[c], 100.0 * least);
+                char buf[160];
+                if (nextSeed)
+                    std::snprintf(buf, sizeof buf,
+                                  " (%.0f %% in specks, %.1f %% glints; the least specky "
+                                  "default %.0f %%, the median default %.1f %% glints)",
+                                  100.0 * share[c], 100.0 * glint[c], 100.0 * least,
+                                  100.0 * typicalGlint);
+                else
+                    std::snprintf(buf, sizeof buf,
+                                  " (%.0f %% in specks; the least default %.0f %%)",
+                                  100.0 * share[c], 100.0 * least);
                 notes.push_back(layers.objects()[o] + ": " + layers.candidates[c] + buf);
             }
+        }
     }
     return notes;
 }

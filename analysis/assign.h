@@ -39,6 +39,32 @@ constexpr double kSparklePeak = 4.0;
 constexpr double kSparkleLimit = 0.25;
 double sparkleShare(const float* rgb, int width, int height);
 
+// Glints: a highlight narrower than the pixel footprint is caught by some of a pixel's samples
+// and missed by others, so its pixels change from one seed to the next far more than those of a
+// highlight the pixel resolves. (A pixel is the box-filtered radiance over its footprint,
+// estimated from spp point samples; the estimate's variance is the radiance's variance over the
+// footprint divided by spp: Pharr, Jakob & Humphreys, *Physically Based Rendering* 3rd ed.,
+// §7.1 and §13.1.) A candidate's layer rendered at two seeds, `rgbA` and `rgbB` (same size and
+// spp), over the luminance `matteY` of the pixels without any highlight (every Lambert term and
+// the backdrop): among the pixels where the highlight is seen (mean of the two ≥ kWeberContrast
+// of the pixel, analysis/separation.h), the share that glint — change between the seeds by at
+// least kGlintContrast of the pixel's luminance and are a speck (above kSparklePeak × the mean
+// of their neighbours) at either seed. 0 for a noise-free layer or one never seen. The speck
+// condition leaves out the grain of a broad lobe on a jittered volume (noisy but not isolated
+// points); the contrast condition leaves out specks too dim against the pixel to be seen. The
+// noise is that of the layers' spp (2 by default, no more than a final render's): a render at N
+// spp has √(N / 2) times smaller differences, so the rule errs on the side of rejecting.
+double glintShare(const float* rgbA, const float* rgbB, int width, int height,
+                  const std::vector<double>& matteY);
+// A glint: a pixel's luminance changing by a fifth between two seeds — about 8 CIELAB L* units
+// at mid-grey (CIE 15:2004; L* ∝ Y^⅓, so ΔL*/L* ≈ ⅓ ΔY/Y), several times the about 1 unit a
+// viewer tells apart side by side, so a single pixel that flips by that much is seen as a speck
+// that comes and goes with the samples.
+constexpr double kGlintContrast = 0.2;
+// `lobe assign` does not offer a candidate for an object when more than this share of its seen
+// highlight glints (and more than twice the median default model's share there).
+constexpr double kGlintLimit = 0.03;
+
 // The layers with `members` summed into one object `name` (analysis/separation.h mergeObjects).
 AssignmentLayers mergeAssignmentObjects(const AssignmentLayers& layers, const std::string& name,
                                         const std::vector<std::string>& members);
@@ -70,15 +96,24 @@ struct AssignOptions {
 };
 
 // No sparkle, whatever the candidates (defaults, --tune variants, lobes scaled to equal albedo):
-// for every free object (options.fixed −1), a candidate is not offered when more than
-// kSparkleLimit of its highlight there is specks (sparkleShare on its layer: a highlight narrower
-// than a pixel) and more than twice the least specky `reference` candidate's share there (the
-// nine models at their defaults; on a structure a few pixels across every highlight is a speck,
-// and the defaults stay). Sets options.objectAllowed; returns one line per candidate not offered,
-// "object: candidate (NN % in specks; the least default NN %)". sparkleShare does not depend on
-// the layer's scale, so an equal-albedo lobe is judged by its shape.
+// for every free object (options.fixed −1), a candidate is not offered when
+// - more than kSparkleLimit of its highlight there is specks (sparkleShare on its layer: a
+//   highlight narrower than a pixel) and more than twice the least specky `reference`
+//   candidate's share there, or
+// - with `nextSeed` (the same layers rendered at another seed), more than kGlintLimit of its seen
+//   highlight glints (glintShare: specks that come and go with the samples) and more than twice
+//   the median `reference` candidate's glint share there (the lower median: a glint share counts
+//   a few pixels on a small structure or coarse layers, and the least of nine is often 0 by
+//   chance).
+// `reference`: the nine models at their defaults; on a structure a few pixels across every
+// highlight is a speck and most glint, and the defaults stay. Sets options.objectAllowed; returns
+// one line per candidate not offered, "object: candidate (NN % in specks, NN % glints; …)".
+// sparkleShare does not depend on the layer's scale, so an equal-albedo lobe is judged by its
+// shape; glintShare does where the lobe is dim against the pixel (a glint not seen does not
+// count).
 std::vector<std::string> excludeSparkle(const AssignmentLayers& layers,
-                                        const std::vector<bool>& reference, AssignOptions& options);
+                                        const std::vector<bool>& reference, AssignOptions& options,
+                                        const AssignmentLayers* nextSeed = nullptr);
 
 // Whether `report`'s objects keep the bounds of `options` (not the distinct rule).
 bool withinBounds(const SeparationReport& report, const AssignOptions& options);

@@ -214,16 +214,27 @@ void assignScene(const AssignRequest& cmd) {
     request.objects = request.backdrop = true;
     requestCandidateLayers(candidates, request);
     const auto start = std::chrono::steady_clock::now();
-    const RenderScene scene(spec, !cmd.quiet);
+    VolumeCache cache;
+    const RenderScene scene(spec, !cmd.quiet, &cache);
     RenderOptions options;
     options.threads = cmd.threads;
     options.progress = !cmd.quiet;
     options.label = "assign layers";
     AovImage aovs;
     scene.render(options, nullptr, &request, &aovs);
+    // The same layers at the next seed: glints are what changes between the two (glintShare).
+    SceneSpec nextSeed = spec;
+    nextSeed.seed = spec.seed + 1;
+    AovImage aovsNextSeed;
+    {
+        const RenderScene again(nextSeed, false, &cache);
+        options.label = "assign layers, second seed";
+        again.render(options, nullptr, &request, &aovsNextSeed);
+    }
     const double renderSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const AssignmentLayers layers = assignmentLayers(spec, aovs, candidates);
+    const AssignmentLayers layersNextSeed = assignmentLayers(nextSeed, aovsNextSeed, candidates);
     // The input as it is: its own specular passes, from the same render.
     const SeparationLayers inputLayers = separationLayers(spec, aovs);
     const double threshold = metric == SeparationMetric::Itp ? kItpThreshold : kWeberContrast;
@@ -251,13 +262,14 @@ void assignScene(const AssignRequest& cmd) {
             search.maxLuminance.push_back(v.meanLuminance * cmd.brightnessBand);
         }
     // No sparkle (analysis/assign.h excludeSparkle), for every candidate: a highlight mostly
-    // isolated specks in the layers — narrower than a pixel of the layers, which are no finer
-    // than the final render — is not offered for that object.
+    // isolated specks in the layers, or one whose specks come and go between the two seeds'
+    // layers (glints) — narrower than a pixel of the layers, which are no finer than the final
+    // render — is not offered for that object.
     std::vector<bool> reference(candidates.size());
     for (size_t c = 0; c < candidates.size(); ++c)
         reference[c] = candidates[c].settings.empty() && !candidates[c].brdf;
     std::string sparkleNote;
-    for (const std::string& line : excludeSparkle(layers, reference, search))
+    for (const std::string& line : excludeSparkle(layers, reference, search, &layersNextSeed))
         sparkleNote += "\n- " + line;
     // The scene's own assignment, where every object's model is a default-parameter candidate.
     std::vector<int> current(k, -1);
@@ -338,7 +350,12 @@ void assignScene(const AssignRequest& cmd) {
     if (!sparkleNote.empty())
         md += "Not offered (sparkle: more than " + formatNumber("%.0f", 100 * kSparkleLimit) +
               " % of the highlight in isolated pixels, " + formatNumber("%g", kSparklePeak) +
-              "× the mean of their neighbours, and twice the least specky default model's):" +
+              "× the mean of their neighbours, or more than " +
+              formatNumber("%g", 100 * kGlintLimit) +
+              " % of the seen highlight in glints, specks that change by " +
+              formatNumber("%g", 100 * kGlintContrast) +
+              " % of the pixel between two seeds; each also twice the least specky, or the "
+              "median, default model's share):" +
               sparkleNote + "\n\n";
     md += "| rank | score |";
     for (const ObjectSpec& obj : spec.objects) md += " " + obj.name + " |";

@@ -30,8 +30,8 @@ void registerAssignCommand(CLI::App& app) {
     sub->add_flag(
         "--tune", cmd.request.tune,
         "also try each model's documented parameter variants (docs/brdf-properties.md); "
-        "in every mode a candidate whose highlight on an object is mostly sub-pixel specks is "
-        "not offered there");
+        "in every mode a candidate whose highlight on an object is mostly sub-pixel specks, or "
+        "glints (specks that change between two seeds' layers), is not offered there");
     cmd.equalAlbedoOption =
         sub->add_option(
                "--equal-albedo", cmd.request.equalAlbedo,

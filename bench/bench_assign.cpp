@@ -28,6 +28,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
+#include <map>
+#include <stdexcept>
 #include <string>
 
 using namespace lobe;
@@ -80,6 +82,45 @@ std::vector<int> slotOfObject(const SceneSpec& spec) {
     return slot;
 }
 
+// --albedo: "A" for every object, or "NAME=A,…" per object (a NAME "density maps" stands for
+// every "density map N"; an entry without a name is the value of the objects not named).
+// Throws naming the entry or the object left without a value.
+std::map<std::string, double> objectAlbedos(const std::string& text, const SceneSpec& spec) {
+    std::map<std::string, double> named;
+    double fallback = -1.0;
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        const std::string entry = text.substr(start, comma - start);
+        const size_t eq = entry.find('=');
+        const std::string value = eq == std::string::npos ? entry : entry.substr(eq + 1);
+        char* end = nullptr;
+        const double a = std::strtod(value.c_str(), &end);
+        if (value.empty() || *end != '\0' || !(a > 0.0 && a <= 1.0))
+            throw std::runtime_error("--albedo: expected A or OBJECT=A with A in (0, 1], got '" +
+                                     entry + "'");
+        if (eq == std::string::npos)
+            fallback = a;
+        else
+            named[entry.substr(0, eq)] = a;
+        start = comma + 1;
+    }
+    std::map<std::string, double> out;
+    for (const ObjectSpec& o : spec.objects) {
+        double a = fallback;
+        if (named.count(o.name))
+            a = named.at(o.name);
+        else if (isMap(o.name) && named.count("density maps"))
+            a = named.at("density maps");
+        if (a < 0.0) throw std::runtime_error("--albedo: no value for object '" + o.name + "'");
+        out[o.name] = a;
+    }
+    for (const auto& [name, a] : named)
+        if (name != "density maps" && !out.count(name))
+            throw std::runtime_error("--albedo: the scene has no object '" + name + "'");
+    return out;
+}
+
 AssignmentLayers mergeMaps(const AssignmentLayers& in, const SceneSpec&) {
     std::vector<std::string> maps;
     for (const std::string& o : in.objects())
@@ -130,7 +171,7 @@ int candidateIndex(const std::vector<BrdfCandidate>& c, const std::string& model
 int main(int argc, char** argv) {
     int size = 64, spp = 1, threads = 2, manySize = 32, subsets = 20, tuneSize = 64;
     bool skipFull = false, onlyRenderings = false, kendall = false;
-    double kendallAlbedo = 0.1;
+    std::string kendallAlbedo = "0.1";
     std::string paperDir = std::string(LOBE_SOURCE_DIR) + "/assets/scenes/paper";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -156,12 +197,12 @@ int main(int argc, char** argv) {
         else if (a == "--kendall")
             kendall = true;
         else if (a == "--albedo" && i + 1 < argc)
-            kendallAlbedo = std::atof(argv[++i]);
+            kendallAlbedo = argv[++i];
         else {
             std::fprintf(stderr,
                          "usage: %s [--size N] [--spp N] [--threads N] [--many-size N] "
                          "[--subsets N] [--tune-size N] [--skip-full] [--paper-dir DIR] "
-                         "[--only-renderings] [--kendall [--albedo A]]\n",
+                         "[--only-renderings] [--kendall [--albedo A|OBJECT=A,…]]\n",
                          argv[0]);
             return 2;
         }
@@ -170,18 +211,45 @@ int main(int argc, char** argv) {
     const std::vector<BrdfCandidate> nine = brdfCandidates(false);
     if (kendall) {
         // Rank agreement of the two measures (docs/separation.md) over all 729 assignments of the
-        // paper scene (maps merged), at the paper's parameters and at equal albedo 0.1.
+        // paper scene (maps merged), at the paper's parameters and at equal albedo (one per
+        // object: --albedo skull=0.05,cortex=0.5,… as the paper-shape set is written).
         const SceneSpec paper = load(paperDir + "/rendering-01.json", size, spp);
+        std::map<std::string, double> albedoOf;
+        try {
+            albedoOf = objectAlbedos(kendallAlbedo, paper);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "lobe_bench_assign: error: %s\n", e.what());
+            return 2;
+        }
         std::printf(
             "# Weber score against the ΔE_ITP measure, %s/rendering-01.json at %d² × %d spp\n\n"
             "| lobes | Kendall τ (score, itp) | discordant / comparable | τ (highlight term H, "
             "itp) | "
             "best by score | best by itp |\n|---|---:|---:|---:|---|---|\n",
             paperDir.c_str(), size, spp);
+        double group[2][4][3] = {};  // [lobes][group][score, H, ΔE_ITP]: means of six
         for (int equal = 0; equal < 2; ++equal) {
-            std::vector<BrdfCandidate> c = nine;
-            if (equal) equalizeAlbedo(c, kendallAlbedo);
-            const AssignmentLayers l = mergeMaps(layersOf(paper, c, threads), paper);
+            AssignmentLayers full;
+            if (!equal) {
+                full = layersOf(paper, nine, threads);
+            } else {
+                // One render per distinct albedo; each object takes the layers of its own.
+                std::map<double, AssignmentLayers> byAlbedo;
+                for (const auto& [name, a] : albedoOf)
+                    if (!byAlbedo.count(a)) {
+                        std::vector<BrdfCandidate> c = nine;
+                        equalizeAlbedo(c, a);
+                        byAlbedo[a] = layersOf(paper, c, threads);
+                    }
+                full = byAlbedo.begin()->second;
+                for (size_t o = 0; o < full.objects().size(); ++o) {
+                    const AssignmentLayers& own = byAlbedo.at(albedoOf.at(full.objects()[o]));
+                    for (size_t c = 0; c < nine.size(); ++c)
+                        full.specular[o * nine.size() + c] = own.layer(int(o), int(c));
+                }
+            }
+            const AssignmentLayers l = mergeMaps(full, paper);
+            const std::vector<BrdfCandidate>& c = nine;
             const SeparationScorer weber(l.scene);
             const SeparationScorer itp(l.scene, kItpThreshold, SeparationMetric::Itp);
             std::vector<double> w, h, d;
@@ -200,9 +268,10 @@ int main(int argc, char** argv) {
             const size_t bw = size_t(std::max_element(w.begin(), w.end()) - w.begin());
             const size_t bd = size_t(std::max_element(d.begin(), d.end()) - d.begin());
             std::printf("| %s | %.3f | %d / %d | %.3f | %s | %s |\n",
-                        equal ? "equal albedo" : "paper's parameters", t.kendallTau, t.discordant,
-                        t.comparable, th.kendallTau, label(c, all[bw]).c_str(),
-                        label(c, all[bd]).c_str());
+                        equal ? ("albedo " + kendallAlbedo).c_str() : "paper's parameters",
+                        t.kendallTau, t.discordant, t.comparable, th.kendallTau,
+                        label(c, all[bw]).c_str(), label(c, all[bd]).c_str());
+            // The paper's four groups of six renderings: A 1–6, B 7–12, C 13–18, D 19–24.
             for (int r = 1; r <= 24; ++r) {
                 char name[64];
                 std::snprintf(name, sizeof name, "/rendering-%02d.json", r);
@@ -214,8 +283,19 @@ int main(int argc, char** argv) {
                 const size_t i = size_t(x[0] * 81 + x[1] * 9 + x[2]);
                 std::fprintf(stderr, "%s rendering %d: score %.4f highlight %.4f itp %.3f\n",
                              equal ? "equal" : "paper", r, w[i], h[i], d[i]);
+                group[equal][(r - 1) / 6][0] += w[i] / 6.0;
+                group[equal][(r - 1) / 6][1] += h[i] / 6.0;
+                group[equal][(r - 1) / 6][2] += d[i] / 6.0;
             }
         }
+        std::printf(
+            "\nGroup means (A 1–6, B 7–12, C 13–18, D 19–24):\n\n| group | score | H | ΔE_ITP | "
+            "score, albedo %s | H | ΔE_ITP |\n|---|---:|---:|---:|---:|---:|---:|\n",
+            kendallAlbedo.c_str());
+        for (int g = 0; g < 4; ++g)
+            std::printf("| %c | %.4f | %.4f | %.2f | %.4f | %.4f | %.2f |\n", char('A' + g),
+                        group[0][g][0], group[0][g][1], group[0][g][2], group[1][g][0],
+                        group[1][g][1], group[1][g][2]);
         return 0;
     }
 

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 namespace lobe {
 namespace {
@@ -381,6 +382,101 @@ TEST(Assign, SparkleIsSpecksNotBroadHighlights) {
     double total = 0.0;
     for (size_t i = 0; i < mixed.size(); i += 3) total += mixed[i];
     EXPECT_NEAR(sparkleShare(mixed.data(), w, h), 2.0 / total, 1e-6);
+}
+
+// Glints: specks that change between two seeds' layers, seen against the pixel. Hand-counted.
+TEST(Assign, GlintsAreSpecksThatChangeBetweenSeeds) {
+    const int w = 32, h = 32;
+    const size_t n = size_t(w) * size_t(h);
+    const std::vector<double> matte(n, 1.0);
+    const auto grey = [&](const std::function<double(int, int)>& f) {
+        std::vector<float> v(3 * n);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c)
+                    v[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = float(f(x, y));
+        return v;
+    };
+    const auto inSquare = [](int x, int y) { return x >= 6 && x < 26 && y >= 6 && y < 26; };
+    // The same broad highlight at both seeds: nothing glints.
+    const std::vector<float> smooth =
+        grey([&](int x, int y) { return inSquare(x, y) ? 0.125 : 0.0; });
+    EXPECT_EQ(glintShare(smooth.data(), smooth.data(), w, h, matte), 0.0);
+    // A faint base (0.1 on 400 pixels, each seen: 0.1 ≥ 2 % of 1.1) with 10 specks of 1 whose
+    // places differ between the seeds: 20 of the 400 seen pixels change by ≥ 20 % (|Δ| = 1 against
+    // Y = 1 + 0.6) and are specks at one seed (1.1 against neighbours of 0.1) → 5 %.
+    const auto speckled = [&](int row0, int row1) {
+        return grey([&](int x, int y) {
+            if (!inSquare(x, y)) return 0.0;
+            const bool speck = (y == row0 || y == row1) && x >= 8 && x < 23 && (x - 8) % 3 == 0;
+            return 0.1 + (speck ? 1.0 : 0.0);
+        });
+    };
+    const std::vector<float> a = speckled(10, 20), b = speckled(14, 23);
+    EXPECT_NEAR(glintShare(a.data(), b.data(), w, h, matte), 20.0 / 400.0, 1e-12);
+    // The same specks against a pixel 10× brighter: seen (0.6 ≥ 2 % of 10.6), but they change it
+    // by 1 < 20 % of 10.6: no glint.
+    EXPECT_EQ(glintShare(a.data(), b.data(), w, h, std::vector<double>(n, 10.0)), 0.0);
+    // Grain of a broad lobe over the whole image: every pixel changes by ±50 % between the seeds,
+    // but no pixel stands out of its neighbours (at most 3× them): no glint.
+    const std::vector<float> g0 = grey([&](int x, int y) { return (x + y) % 2 ? 1.5 : 0.5; });
+    const std::vector<float> g1 = grey([&](int x, int y) { return (x + y) % 2 ? 0.5 : 1.5; });
+    EXPECT_EQ(glintShare(g0.data(), g1.data(), w, h, std::vector<double>(n, 0.0)), 0.0);
+    // A black layer is never seen.
+    const std::vector<float> black(3 * n, 0.0f);
+    EXPECT_EQ(glintShare(black.data(), black.data(), w, h, matte), 0.0);
+}
+
+// A speckled highlight whose specks are a minority of its light (22 %: the speck rule alone keeps
+// it, as it kept Cook–Torrance on rendering 1's skull) but come and go between seeds is not
+// offered when the second seed's layers are given; a smooth highlight of the same total light is.
+TEST(Assign, GlintingCandidateIsNotOfferedThoughFewSpecks) {
+    const int w = 32, h = 32;
+    const size_t n = size_t(w) * size_t(h);
+    const auto layersAt = [&](int row0, int row1) {
+        AssignmentLayers l;
+        l.scene.width = w;
+        l.scene.height = h;
+        l.scene.objects = {"skull"};
+        l.scene.lambert = {std::vector<float>(3 * n, 0.0f)};
+        l.scene.backdrop.assign(3 * n, 1.0f);
+        l.candidates = {"smooth", "glints"};
+        l.candidateModels = {"m0", "m1"};
+        std::vector<float> smooth(3 * n, 0.0f), glints(3 * n, 0.0f);
+        for (int y = 6; y < 26; ++y)
+            for (int x = 6; x < 26; ++x) {
+                const bool speck = (y == row0 || y == row1) && x >= 8 && x < 23 && (x - 8) % 3 == 0;
+                for (int c = 0; c < 3; ++c) {
+                    smooth[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = 0.125f;
+                    glints[3 * (size_t(y) * w + size_t(x)) + size_t(c)] = speck ? 1.1f : 0.1f;
+                }
+            }
+        l.specular = {smooth, glints};
+        return l;
+    };
+    const AssignmentLayers a = layersAt(10, 20), b = layersAt(14, 23);
+    double total[2] = {0.0, 0.0};
+    for (int c = 0; c < 2; ++c)
+        for (size_t i = 0; i < 3 * n; i += 3) total[c] += a.layer(0, c)[i];
+    EXPECT_NEAR(total[0], total[1], 1e-3);  // the same light, 50 in both
+    EXPECT_NEAR(sparkleShare(a.layer(0, 1).data(), w, h), 11.0 / 50.0, 1e-6);
+    // The speck rule alone (one seed) keeps both.
+    AssignOptions oneSeed;
+    EXPECT_TRUE(excludeSparkle(a, {true, true}, oneSeed).empty());
+    // With the second seed the glinting one is not offered; the smooth one stays.
+    AssignOptions twoSeeds;
+    const std::vector<std::string> notes = excludeSparkle(a, {true, true}, twoSeeds, &b);
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_NE(notes[0].find("skull: glints"), std::string::npos) << notes[0];
+    EXPECT_EQ(twoSeeds.objectAllowed[0], (std::vector<bool>{true, false}));
+    // Where the typical (median) default glints as much — here the only reference — it stays.
+    AssignOptions typical;
+    EXPECT_TRUE(excludeSparkle(a, {false, true}, typical, &b).empty());
+    // Layers of another shape are refused.
+    AssignmentLayers other = b;
+    other.candidates.push_back("third");
+    AssignOptions bad;
+    EXPECT_THROW(excludeSparkle(a, {true, true}, bad, &other), Error);
 }
 
 // Random layers for k objects and m candidates on a w × h image: each object a coloured Lambert
