@@ -665,15 +665,22 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
     AovImage aovs;
     renderFilm(scene, spec, request, args, progress, film, aovs);
     const AssignmentLayers layers = assignmentLayers(spec, aovs, candidates);
+    // The same layers at the next seed, as `lobe assign`: glints are what changes between the two.
+    SceneSpec nextSeed = spec;
+    nextSeed.seed = spec.seed + 1;
+    AovImage aovsNextSeed;
+    renderFilm(scene, nextSeed, request, args, progress, film, aovsNextSeed);
+    const AssignmentLayers layersNextSeed = assignmentLayers(nextSeed, aovsNextSeed, candidates);
     AssignOptions search;
     search.fixed = fixed;
     search.allowed = allowed;
     search.top = top;
-    // No sparkle, as `lobe assign` (analysis/assign.h excludeSparkle).
+    // No sparkle and no glints, as `lobe assign` (analysis/assign.h excludeSparkle).
     std::vector<bool> reference(candidates.size());
     for (size_t c = 0; c < candidates.size(); ++c)
         reference[c] = candidates[c].settings.empty() && !candidates[c].brdf;
-    const std::vector<std::string> notOffered = excludeSparkle(layers, reference, search);
+    const std::vector<std::string> notOffered =
+        excludeSparkle(layers, reference, search, &layersNextSeed);
     std::vector<int> current(spec.objects.size(), -1);
     for (size_t i = 0; i < spec.objects.size(); ++i) {
         if (fixed[i] >= 0)
@@ -711,7 +718,7 @@ py::dict assign(const PyScene& scene, RenderArgs args, const std::vector<std::st
     out["current_score"] =
         hasCurrent ? py::object(py::float_(assignmentScore(layers, current))) : py::none();
     out["exhaustive"] = result.exhaustive;
-    out["not_offered"] = notOffered;  // "object: candidate (…% in specks …)"
+    out["not_offered"] = notOffered;  // "object: candidate (…% in specks, …% glints …)"
     out["evaluated"] = result.evaluated;
     out["space"] = result.space;
     return out;
@@ -918,8 +925,9 @@ progress(done_pixels, total_pixels) is called about every 50 ms. Ctrl-C stops th
         py::arg("spp") = py::none(), py::arg("seed") = py::none(), py::arg("step") = py::none(),
         py::arg("threads") = 0, py::arg("progress") = py::none(),
         R"doc(
-Choose each object's BRDF to maximise the separation score (`lobe assign`): one render (256
-wide, 2 spp unless given) with every candidate's layers, then every assignment scored. Returns
+Choose each object's BRDF to maximise the separation score (`lobe assign`): two renders (256
+wide, 2 spp unless given; seeds s and s + 1, the second to find glints) with every candidate's
+layers, then every assignment scored. Returns
 a dict: ranked (best first: score and each object's BRDF label), best (object name -> "brdf"
 dict for the scene, kept objects left out), current_score (the scene's own assignment, or None),
 exhaustive, evaluated, space.)doc");

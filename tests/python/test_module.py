@@ -196,9 +196,16 @@ class RenderEqualsCli(Files):
                         "--exclude", "he_torrance"], check=True)
         with open(best_path, encoding="utf-8") as f:
             cli = json.load(f)
+        with open(os.path.join(self.tmp, "best-assign.md"), encoding="utf-8") as f:
+            report = f.read()
         result = lobe.assign(lobe.Scene.from_file(path), width=32, exclude=["he_torrance"])
         self.assertEqual(result["best"]["shell"], cli["objects"][0]["brdf"])
         self.assertEqual(result["best"]["core"], cli["objects"][1]["brdf"])
+        # The same candidates not offered, by both rules (specks; glints between two seeds).
+        lines = report.split("Not offered", 1)[1].split("\n\n", 1)[0] if "Not offered" in report \
+            else ""
+        self.assertEqual(sorted(result["not_offered"]),
+                         sorted(line[2:] for line in lines.splitlines() if line.startswith("- ")))
         self.assertTrue(result["exhaustive"])
         # The scene's own models may be among the sparkle rule's exclusions (at 32 pixels wide
         # highlights are specks); the best ranks above the scene's own only when they are not.
