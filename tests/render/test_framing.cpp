@@ -10,6 +10,7 @@
 #include "scene_text.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -323,7 +324,8 @@ TEST(Framing, PrintedViewReadsBackAsTheSameCamera) {
 // (centres ± half a voxel), centre (1.5, 1.5, 19.5), half extents (2, 2, 20). From anterior with
 // fov 30° and margin 1.1 its height binds: d = 20/t + 2, t = tan 15°/1.1.
 TEST(Framing, SceneFitsTheCameraToTheLoadedVolumesBox) {
-    const fs::path dir = fs::temp_directory_path() / "lobe_framing_test";
+    const fs::path dir =
+        fs::temp_directory_path() / ("lobe_framing_test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     std::vector<float> slab(4 * 4 * 40, 1.0f);
     std::ofstream(dir / "slab.raw", std::ios::binary)
@@ -352,7 +354,8 @@ TEST(Framing, SceneFitsTheCameraToTheLoadedVolumesBox) {
 // and turned to frame k by setView renders frame k bit for bit as a scene built for it, backdrop
 // included (it is placed from the view).
 TEST(Framing, SceneTurnedToAnOrbitFrameRendersAsOneBuiltForIt) {
-    const fs::path dir = fs::temp_directory_path() / "lobe_framing_orbit_test";
+    const fs::path dir =
+        fs::temp_directory_path() / ("lobe_framing_orbit_test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     std::vector<float> slab(4 * 4 * 40);
     for (size_t i = 0; i < slab.size(); ++i) slab[i] = float((i * 7919) % 13) / 12.0f;

@@ -13,6 +13,7 @@
 #include "render/scene_file.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -25,7 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path writeVolumes() {
-    const fs::path dir = fs::temp_directory_path() / "lobe_hybrid_test";
+    const fs::path dir =
+        fs::temp_directory_path() / ("lobe_hybrid_test-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     std::vector<float> slab(4 * 4 * 40, 1.0f);
     std::ofstream(dir / "slab.raw", std::ios::binary)

@@ -14,6 +14,7 @@
 #include "volume/reconstruction.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -324,8 +325,9 @@ TEST(LabelMap, AalSelectionEqualsNibabelsMask) {
     const std::string aal = "/usr/share/mricron/templates/aal.nii.gz";
     if (!std::filesystem::exists(aal))
         GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
-    const std::string out =
-        (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal-mask.txt").string();
+    const std::string out = (std::filesystem::temp_directory_path() /
+                             ("lobe-label-tests-" + std::to_string(::getpid())) / "aal-mask.txt")
+                                .string();
     std::filesystem::create_directories(std::filesystem::path(out).parent_path());
     const std::string cmd = std::string(LOBE_SYSTEM_PYTHON) +
                             " -c \"import nibabel as nib, numpy as np\n"
@@ -370,8 +372,10 @@ TEST(LabelScene, AalLabel37CoversWhatItsBinaryMaskDoes) {
     const std::string aal = "/usr/share/mricron/templates/aal.nii.gz";
     if (!std::filesystem::exists(aal))
         GTEST_SKIP() << "mricron-data is not installed (scripts/setup.sh)";
-    const std::string mask =
-        (std::filesystem::temp_directory_path() / "lobe-label-tests" / "aal37.vdb").string();
+    const std::string mask = (std::filesystem::temp_directory_path() /
+                              ("lobe-label-tests-" + std::to_string(::getpid())) / "aal37.vdb")
+                                 .string();
+    std::filesystem::create_directories(std::filesystem::path(mask).parent_path());
     Volume maskVolume = *loadLabelMap(aal)->volume;
     maskVolume.grid = labelMask(*loadLabelMap(aal), {37});
     writeVdb(maskVolume, mask);

@@ -6,6 +6,7 @@
 #include "volume/volume.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -19,7 +20,8 @@ namespace fs = std::filesystem;
 
 const std::string& mghDir() {
     static const std::string dir = [] {
-        const std::string d = (fs::temp_directory_path() / "lobe-mgh-tests").string();
+        const std::string d =
+            (fs::temp_directory_path() / ("lobe-mgh-tests-" + std::to_string(::getpid()))).string();
         const std::string cmd = std::string(LOBE_SYSTEM_PYTHON) + " '" + LOBE_SOURCE_DIR +
                                 "/tests/volume/make_mgh_files.py' '" + d + "'";
         if (std::system(cmd.c_str()) != 0) throw std::runtime_error("make_mgh_files.py failed");
@@ -29,7 +31,8 @@ const std::string& mghDir() {
 }
 
 std::string writeText(const std::string& name, const std::string& text) {
-    const fs::path dir = fs::temp_directory_path() / "lobe-table-tests";
+    const fs::path dir =
+        fs::temp_directory_path() / ("lobe-table-tests-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const std::string path = (dir / name).string();
     std::ofstream(path, std::ios::binary) << text;
