@@ -68,6 +68,15 @@ struct HeTorrance {
         double k, s;
     };
     static DirectionTerms directionTerms(double cosTheta, double sigma0, double tau);
+
+    // The viewer's half of an evaluation: K(θo) and S(θo) per band (render/shading.cpp lights a
+    // point with several lights and one wo). eval(wi, wo, viewTerms(wo)) is eval(wi, wo) bit for
+    // bit; wo must be above the horizon (wo.z > 0).
+    struct ViewTerms {
+        DirectionTerms out[kBandCount];
+    };
+    ViewTerms viewTerms(const Vec3& wo) const;
+    Spectrum eval(const Vec3& wi, const Vec3& wo, const ViewTerms& view) const;
 };
 
 }  // namespace lobe
