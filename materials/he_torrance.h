@@ -46,8 +46,9 @@ struct HeTorrance {
     Spectrum tau{10.0};    // tau_over_lambda
     Spectrum eta{1.6};
     Spectrum kappa{0.2};
-    // Previews only (he_torrance_table.h): when set, eval() reads this table of the same
-    // parameters instead of summing the series. Null — the exact series — everywhere else.
+    // When set (he_torrance_table.h; render/scene.cpp attaches one unless `--exact-brdf`),
+    // eval() reads this table of the same parameters instead of summing the series. Null: the
+    // exact series.
     std::shared_ptr<const HeTorranceTable> table;
 
     // The pieces of the definition, public so that tests can check each one (lengths in λ).
