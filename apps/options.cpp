@@ -38,6 +38,9 @@ void addOverrideOptions(CLI::App& sub, SceneOverrides& o) {
     sub.add_flag("--preview", o.preview,
                  "quick look: 512 pixels wide, 1 sample per pixel (--width/--spp still win), "
                  "He-Torrance from a table within 2 % (docs/models.md)");
+    sub.add_flag("--exact-brdf", o.exactBrdf,
+                 "He-Torrance from its series, not from a table (full renders read a table "
+                 "within 0.5 %, previews one within 2 %; docs/models.md)");
 }
 
 void addFigureOptions(CLI::App& sub, FigureOptions& f, const std::string& outOption) {

@@ -140,6 +140,7 @@ int main(int argc, char** argv) {
         refSpec.volumeStepVoxels = 0.02;
         refSpec.samplesPerPixel = 64;
         refSpec.shadingRoulette = 0.0;  // every sample shaded
+        refSpec.exactBrdf = true;       // He–Torrance from its series (no table)
         const RenderScene reference(refSpec, false);
         std::vector<Spectrum> ref(size_t(lattice) * lattice), got(ref.size());
         const int stride = size / lattice;

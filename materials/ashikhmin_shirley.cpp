@@ -28,6 +28,7 @@ Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
     if (!(hDotWi > 0.0) || !(denom > 0.0)) return Spectrum(0.0);
     Spectrum f;
     double lastE = -1.0, power = 0.0;  // one pow per distinct exponent (bands usually share it)
+    double lastNu = -1.0, lastNv = -1.0, norm = 0.0;  // and one sqrt per distinct (nu, nv)
     for (int b = 0; b < kBandCount; ++b) {
         // At h = n, h.z^e = 1 for any e: take e = 1 (h.z = 1) instead of dividing 0 by 0.
         const double e = sin2 > 0.0 ? (nu[b] * hx2 + nv[b] * hy2) / sin2 : 1.0;
@@ -35,7 +36,11 @@ Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
             power = std::pow(h.z, e);
             lastE = e;
         }
-        const double norm = std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
+        if (nu[b] != lastNu || nv[b] != lastNv) {
+            lastNu = nu[b];
+            lastNv = nv[b];
+            norm = std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
+        }
         f[b] = norm * power / denom * fresnelSchlick(rs[b], hDotWi);
     }
     return f;

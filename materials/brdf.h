@@ -38,6 +38,34 @@ inline Spectrum evalBrdf(const Brdf& brdf, const Vec3& wi, const Vec3& wo) {
     return f;
 }
 
+// f(·, wo) for one viewer direction and any number of light directions: eval(wi) is
+// evalBrdf(brdf, wi, wo) bit for bit. What depends on wo alone is computed once, on the first
+// eval — He–Torrance's K(θo) and S(θo) (an erfc and an exp per distinct band); every other model
+// has nothing to share and is evaluated as evalBrdf does. render/shading.cpp lights a point with
+// one of these across its lights. wo must be above the horizon.
+class BrdfAtView {
+public:
+    BrdfAtView(const Brdf& brdf, const Vec3& wo)
+        : brdf_(brdf), wo_(wo), heTorrance_(std::get_if<HeTorrance>(&brdf)) {}
+    Spectrum eval(const Vec3& wi) {
+        if (!heTorrance_) return evalBrdf(brdf_, wi, wo_);
+        if (!haveView_) {
+            view_ = heTorrance_->viewTerms(wo_);
+            haveView_ = true;
+        }
+        Spectrum f = heTorrance_->eval(wi, wo_, view_);
+        for (double& v : f.v) v = std::isnan(v) ? 0.0 : std::clamp(v, 0.0, kMaxBrdfValue);
+        return f;
+    }
+
+private:
+    const Brdf& brdf_;
+    Vec3 wo_;
+    const HeTorrance* heTorrance_;
+    bool haveView_ = false;
+    HeTorrance::ViewTerms view_;
+};
+
 inline const char* brdfName(const Brdf& brdf) {
     return std::visit([](const auto& model) { return std::decay_t<decltype(model)>::kName; }, brdf);
 }

@@ -427,7 +427,25 @@ double HeTorrance::shadowingS(double cosTheta, double sigma0, double tau) {
     return directionTerms(cosTheta, sigma0, tau).s;
 }
 
+HeTorrance::ViewTerms HeTorrance::viewTerms(const Vec3& wo) const {
+    // Per band, or copied from the band before when its σ0 and τ are the same (as eval shares
+    // D·S·G between such bands).
+    ViewTerms view;
+    if (table) return view;  // the table's eval needs none
+    for (int b = 0; b < kBandCount; ++b)
+        view.out[b] = b > 0 && sigma0[b] == sigma0[b - 1] && tau[b] == tau[b - 1]
+                          ? view.out[b - 1]
+                          : directionTerms(wo.z, sigma0[b], tau[b]);
+    return view;
+}
+
 Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
+    if (table) return table->eval(wi, wo);
+    if (!aboveHorizon(wi, wo)) return Spectrum(0.0);
+    return eval(wi, wo, viewTerms(wo));
+}
+
+Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo, const ViewTerms& view) const {
     if (table) return table->eval(wi, wo);
     Vec3 h;
     if (!aboveHorizon(wi, wo) || !halfVector(wi, wo, h)) return Spectrum(0.0);
@@ -445,8 +463,7 @@ Spectrum HeTorrance::eval(const Vec3& wi, const Vec3& wo) const {
             lastSigma0 = sigma0[b];
             lastTau = tau[b];
             const double s0 = sigma0[b], t = tau[b];
-            const DirectionTerms in = directionTerms(cosI, s0, t),
-                                 out = directionTerms(cosO, s0, t);
+            const DirectionTerms in = directionTerms(cosI, s0, t), out = view.out[b];
             const double kSum = in.k + out.k;
             // z0 ≤ A = (σ0/4)·kSum/sqrt(π/2) (solveZ0). When A/σ0 < 1e-9, (z0/σ0)² < 1e-18 is
             // lost in 1 + (z0/σ0)² and σ = σ0 exactly, so the solve is skipped (the common case:

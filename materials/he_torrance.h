@@ -46,8 +46,9 @@ struct HeTorrance {
     Spectrum tau{10.0};    // tau_over_lambda
     Spectrum eta{1.6};
     Spectrum kappa{0.2};
-    // Previews only (he_torrance_table.h): when set, eval() reads this table of the same
-    // parameters instead of summing the series. Null — the exact series — everywhere else.
+    // When set (he_torrance_table.h; render/scene.cpp attaches one unless `--exact-brdf`),
+    // eval() reads this table of the same parameters instead of summing the series. Null: the
+    // exact series.
     std::shared_ptr<const HeTorranceTable> table;
 
     // The pieces of the definition, public so that tests can check each one (lengths in λ).
@@ -68,6 +69,15 @@ struct HeTorrance {
         double k, s;
     };
     static DirectionTerms directionTerms(double cosTheta, double sigma0, double tau);
+
+    // The viewer's half of an evaluation: K(θo) and S(θo) per band (render/shading.cpp lights a
+    // point with several lights and one wo). eval(wi, wo, viewTerms(wo)) is eval(wi, wo) bit for
+    // bit; wo must be above the horizon (wo.z > 0).
+    struct ViewTerms {
+        DirectionTerms out[kBandCount];
+    };
+    ViewTerms viewTerms(const Vec3& wo) const;
+    Spectrum eval(const Vec3& wi, const Vec3& wo, const ViewTerms& view) const;
 };
 
 }  // namespace lobe

@@ -76,24 +76,27 @@ void HeTorranceTable::directions(double u, double thetaD, double phiD, Vec3& wi,
     wo = h * (2.0 * wi.dot(h)) - wi;
 }
 
-std::shared_ptr<const HeTorranceTable> HeTorranceTable::build(const HeTorrance& modelIn) {
+std::shared_ptr<const HeTorranceTable> HeTorranceTable::build(const HeTorrance& modelIn,
+                                                              const Resolution& res) {
     HeTorrance model = modelIn;
     model.table = nullptr;  // the series itself
     auto table = std::make_shared<HeTorranceTable>();
-    table->values_.assign(std::size_t(kHalf) * kDiff * kPhi * kBandCount, 0.0f);
-    std::vector<Spectrum> peaks(kHalf, Spectrum(0.0));  // per u slice: no shared reduction
-    tbb::parallel_for(0, kHalf, [&](int iu) {
-        const double u = double(iu) / (kHalf - 1);
-        for (int id = 0; id < kDiff; ++id)
-            for (int ip = 0; ip < kPhi; ++ip) {
+    table->res_ = res;
+    const int nHalf = res.half, nDiff = res.diff, nPhi = res.phi;
+    table->values_.assign(std::size_t(nHalf) * nDiff * nPhi * kBandCount, 0.0f);
+    std::vector<Spectrum> peaks(nHalf, Spectrum(0.0));  // per u slice: no shared reduction
+    tbb::parallel_for(0, nHalf, [&](int iu) {
+        const double u = double(iu) / (nHalf - 1);
+        for (int id = 0; id < nDiff; ++id)
+            for (int ip = 0; ip < nPhi; ++ip) {
                 Vec3 wi, wo;
-                directions(u, thetaDOf(double(id) / (kDiff - 1)), kHalfPi * ip / (kPhi - 1), wi,
+                directions(u, thetaDOf(double(id) / (nDiff - 1)), kHalfPi * ip / (nPhi - 1), wi,
                            wo);
                 const bool above = wi.z > 0.0 && wo.z > 0.0;
                 const Vec3 i = ontoHorizon(wi), o = ontoHorizon(wo);
                 const Spectrum f = seriesValue(model, i, o);
                 float* v =
-                    &table->values_[((std::size_t(iu) * kDiff + id) * kPhi + ip) * kBandCount];
+                    &table->values_[((std::size_t(iu) * nDiff + id) * nPhi + ip) * kBandCount];
                 for (int b = 0; b < kBandCount; ++b) {
                     v[b] = static_cast<float>(f[b]);
                     if (above) peaks[size_t(iu)][b] = std::max(peaks[size_t(iu)][b], f[b] * wi.z);
@@ -147,7 +150,7 @@ std::shared_ptr<const HeTorranceTable> HeTorranceTable::build(const HeTorrance& 
                              std::abs(approx[b] - exact[size_t(i)][b]) * wi.z / table->peak_[b]);
     });
     table->measuredError_ = *std::max_element(errors.begin(), errors.end());
-    if (!(table->measuredError_ <= kRefuseAbove * kErrorBound)) return nullptr;
+    if (!(table->measuredError_ <= kRefuseAbove * res.errorBound)) return nullptr;
     return table;
 }
 
@@ -162,17 +165,18 @@ double HeTorranceTable::relativeError(const HeTorrance& series, const Vec3& wi,
 
 Spectrum HeTorranceTable::eval(const Vec3& wi, const Vec3& wo) const {
     if (!aboveHorizon(wi, wo)) return Spectrum(0.0);
+    const int nHalf = res_.half, nDiff = res_.diff, nPhi = res_.phi;
     double u, thetaD, phiD;
     coordinates(wi, wo, u, thetaD, phiD);
-    const double x = std::clamp(u, 0.0, 1.0) * (kHalf - 1);
-    const double y = std::clamp(diffAxisOf(thetaD), 0.0, 1.0) * (kDiff - 1);
-    const double z = std::clamp(phiD / kHalfPi, 0.0, 1.0) * (kPhi - 1);
-    const int ix = std::min(int(x), kHalf - 2), iy = std::min(int(y), kDiff - 2),
-              iz = std::min(int(z), kPhi - 2);
+    const double x = std::clamp(u, 0.0, 1.0) * (nHalf - 1);
+    const double y = std::clamp(diffAxisOf(thetaD), 0.0, 1.0) * (nDiff - 1);
+    const double z = std::clamp(phiD / kHalfPi, 0.0, 1.0) * (nPhi - 1);
+    const int ix = std::min(int(x), nHalf - 2), iy = std::min(int(y), nDiff - 2),
+              iz = std::min(int(z), nPhi - 2);
     const double fx = x - ix, fy = y - iy, fz = z - iz;
-    const float* v = &values_[((std::size_t(ix) * kDiff + iy) * kPhi + iz) * kBandCount];
-    constexpr std::size_t sz = kBandCount, sy = std::size_t(kPhi) * kBandCount,
-                          sx = std::size_t(kDiff) * kPhi * kBandCount;
+    const float* v = &values_[((std::size_t(ix) * nDiff + iy) * nPhi + iz) * kBandCount];
+    const std::size_t sz = kBandCount, sy = std::size_t(nPhi) * kBandCount,
+                      sx = std::size_t(nDiff) * nPhi * kBandCount;
     Spectrum f;
     for (int b = 0; b < kBandCount; ++b) {
         const float* p = v + b;

@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -383,31 +384,50 @@ std::string computedViewError(const SceneSpec& spec, VolumeCache& cache) {
     return "";
 }
 
-// Previews (`--preview`, SceneSpec::previewBrdfTables): each He–Torrance material reads a table of
-// its parameters (materials/he_torrance_table.h; within its stated error bound, or the series
-// where the table refuses), one table per distinct parameter set.
-static void attachPreviewTables(SceneSpec& spec) {
-    std::vector<std::pair<HeTorrance, std::shared_ptr<const HeTorranceTable>>> built;
+// He–Torrance tables (SceneSpec::exactBrdf, previewBrdfTables): each He–Torrance material reads a
+// table of its parameters (materials/he_torrance_table.h; within its stated error bound, or the
+// series where the table refuses) — the preview table under `--preview`, the fine one otherwise,
+// none with exactBrdf. Tables are shared by equal parameter sets within the process (a batch's
+// scenes build each once).
+static void attachHeTorranceTables(SceneSpec& spec) {
+    if (spec.exactBrdf) return;
+    const HeTorranceTable::Resolution& res =
+        spec.previewBrdfTables ? HeTorranceTable::kPreview : HeTorranceTable::kFine;
+    struct Built {
+        HeTorrance model;
+        bool preview;
+        std::shared_ptr<const HeTorranceTable> table;
+    };
+    static std::mutex mutex;
+    static std::vector<Built> built;
+    std::lock_guard<std::mutex> lock(mutex);
     for (ObjectSpec& object : spec.objects) {
         auto* model = std::get_if<HeTorrance>(&object.material.specular);
         if (!model) continue;
-        const auto same = [&](const HeTorrance& m) {
-            return m.ks == model->ks && m.sigma0 == model->sigma0 && m.tau == model->tau &&
-                   m.eta == model->eta && m.kappa == model->kappa;
+        const auto same = [&](const Built& b) {
+            const HeTorrance& m = b.model;
+            return b.preview == spec.previewBrdfTables && m.ks == model->ks &&
+                   m.sigma0 == model->sigma0 && m.tau == model->tau && m.eta == model->eta &&
+                   m.kappa == model->kappa;
         };
-        auto it =
-            std::find_if(built.begin(), built.end(), [&](const auto& b) { return same(b.first); });
+        auto it = std::find_if(built.begin(), built.end(), same);
         if (it == built.end()) {
-            built.emplace_back(*model, HeTorranceTable::build(*model));
+            // At most kKeep tables stay (~4 MB each): a sweep over parameters does not pile
+            // them up.
+            constexpr size_t kKeep = 16;
+            if (built.size() >= kKeep) built.erase(built.begin());
+            HeTorrance series = *model;
+            series.table = nullptr;
+            built.push_back({series, spec.previewBrdfTables, HeTorranceTable::build(series, res)});
             it = built.end() - 1;
         }
-        model->table = it->second;
+        model->table = it->table;
     }
 }
 
 Scene::Scene(const SceneSpec& spec, bool progress, VolumeCache* cache) : spec_(spec) {
     openvdb::initialize();
-    if (spec_.previewBrdfTables) attachPreviewTables(spec_);
+    attachHeTorranceTables(spec_);
     ProgressReporter loading("load " + spec_.title, int64_t(spec_.objects.size()), progress);
     VolumeCache own;
     VolumeCache& volumes = cache ? *cache : own;

@@ -216,9 +216,12 @@ struct SceneSpec {
     // "cached") or cast exact shadow rays through the surfaces (false, "exact": sharp).
     bool shadowCacheSurfaces = true;
     std::vector<ObjectSpec> objects;
-    // `--preview`: He–Torrance materials read a table of their parameters instead of summing the
-    // series (materials/he_torrance_table.h, within its stated error bound). Not a scene key.
+    // He–Torrance materials read a table of their parameters instead of summing the series
+    // (materials/he_torrance_table.h, render/scene.cpp): the fine table (within 0.5 %) in full
+    // renders, the preview table (within 2 %) with `--preview` (previewBrdfTables), the series
+    // itself with `--exact-brdf` (exactBrdf; the reference). Not scene keys.
     bool previewBrdfTables = false;
+    bool exactBrdf = false;
 };
 
 }  // namespace lobe

@@ -96,6 +96,7 @@ void RenderOverrides::apply(SceneSpec& spec) const {
     else if (preview)
         spec.samplesPerPixel = 1;
     if (preview) spec.previewBrdfTables = true;  // He–Torrance from a table (render/scene.cpp)
+    if (exactBrdf) spec.exactBrdf = true;        // … or from its series
     if (roulette >= 0.0) spec.shadingRoulette = roulette;
     if (step > 0.0) spec.volumeStepVoxels = step;
     if (preIntegrated) spec.volumePreIntegrated = true;

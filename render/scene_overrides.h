@@ -1,5 +1,5 @@
 // Overrides of a scene's image and sampling settings — what `lobe render --width/--height/--spp/
-// --step/--seed/--roulette/--preview/--pre-integrated` and the Python module's
+// --step/--seed/--roulette/--preview/--pre-integrated/--exact-brdf` and the Python module's
 // Scene.render(width=, …) change — and how they apply (a width alone keeps the aspect); the
 // command line adds clipping and shadows (SceneOverrides). The options themselves are added in
 // apps/options.h.
@@ -19,6 +19,7 @@ struct RenderOverrides {
     long long seed = -1;                 // < 0: the scene's own
     bool preview = false;
     bool preIntegrated = false;  // --pre-integrated: on for every scene
+    bool exactBrdf = false;  // --exact-brdf: He–Torrance from its series (SceneSpec::exactBrdf)
 
     // Throws lobe::Error for a value out of range, naming the setting.
     void validate() const;

@@ -13,8 +13,9 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
                             const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     Spectrum radiance;
+    BrdfAtView specular(material.specular, frame.toLocal(toViewer));
     forEachLightInFrame(lights, frame, position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                        [&](const PointLight& light, const Vec3& wi, const Vec3&, double g) {
                             if (shadow) {
                                 g *= shadow[&light - lights.data()];
                                 if (!(g > 0.0)) return;
@@ -22,7 +23,7 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
                             onEvaluation();
                             Spectrum f = material.kd * kInvPi;
                             if (material.specularOn)
-                                f += evalBrdf(material.specular, wi, wo) * material.specularScale;
+                                f += specular.eval(wi) * material.specularScale;
                             radiance += f * light.intensity * g;
                         });
     return radiance;
@@ -61,8 +62,9 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
         return terms;
     }
     const Frame frame = facingViewer(point.frame, toViewer);
+    BrdfAtView specular(m.specular, frame.toLocal(toViewer));
     forEachLightInFrame(lights, frame, point.position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                        [&](const PointLight& light, const Vec3& wi, const Vec3&, double g) {
                             if (point.shadow) {
                                 g *= point.shadow[&light - lights.data()];
                                 if (!(g > 0.0)) return;
@@ -70,8 +72,8 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
                             onEvaluation();
                             terms.lambert += m.kd * kInvPi * light.intensity * g;
                             if (m.specularOn)
-                                terms.specular += evalBrdf(m.specular, wi, wo) * m.specularScale *
-                                                  light.intensity * g;
+                                terms.specular +=
+                                    specular.eval(wi) * m.specularScale * light.intensity * g;
                         });
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;

@@ -496,6 +496,26 @@ bool samePixels(const fs::path& a, const fs::path& b) {
     return std::system(cmd.c_str()) == 0;
 }
 
+// --exact-brdf: He–Torrance from its series. A full render reads the fine table by default
+// (render/scene.cpp), so the two images differ — slightly: by far less than 1e-3 in any band of
+// rendering 1, whose density maps are He–Torrance.
+TEST(Cli, ExactBrdfSumsTheSeriesAndTheTableIsClose) {
+    const fs::path d = testDir();
+    const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";
+    const std::string common = " --width 48 --spp 1 --no-contact-sheets --quiet -o ";
+    ASSERT_EQ(lobe("render " + quote(scene) + common + quote((d / "table.exr").string())).exitCode,
+              0);
+    ASSERT_EQ(lobe("render " + quote(scene) + " --exact-brdf" + common +
+                   quote((d / "series.exr").string()))
+                  .exitCode,
+              0);
+    EXPECT_FALSE(samePixels(d / "table.exr", d / "series.exr"));
+    const std::string close = "idiff -a -fail 1e-3 -warn 1e-3 " +
+                              quote((d / "table.exr").string()) + " " +
+                              quote((d / "series.exr").string()) + " >/dev/null 2>&1";
+    EXPECT_EQ(std::system(close.c_str()), 0);
+}
+
 TEST(Cli, RowShardsMergeIntoTheSingleRunsImageBitForBit) {
     const fs::path d = testDir();
     const std::string scene = kSource + "/assets/scenes/paper/rendering-01.json";

@@ -1,8 +1,9 @@
-// Previews (`--preview`, SceneSpec::previewBrdfTables): He–Torrance objects read a table of their
-// parameters (materials/he_torrance_table.h) and full renders keep the series. The flag is set by
-// RenderOverrides' preview only; the preview image differs from the full one (the table is used)
-// by at most the table's stated bound, kErrorBound·M per band and light (M the table's peak
-// f·cos θi) times the light's I/d² and kd-free colour; and it is the same for 1 and 2 threads.
+// He–Torrance tables in renders (render/scene.cpp): with `--preview` (SceneSpec::previewBrdfTables)
+// He–Torrance objects read the preview table of their parameters (materials/he_torrance_table.h),
+// full renders read the fine table, and `--exact-brdf` (SceneSpec::exactBrdf) keeps the series.
+// The flags are set by RenderOverrides only; each tabled image differs from the series' by at
+// most its table's stated bound, errorBound·M per band and light (M the table's peak f·cos θi)
+// times the light's I/d² and kd-free colour; and it is the same for 1 and 2 threads.
 //
 // Set-up (as tests/render/test_render_cost.cpp): a ramp whose iso-surface is a tilted plane with
 // normal ∝ (0.75, 0, 1), seen from above, lit by two lights, white, Lambert kd 0.
@@ -76,16 +77,21 @@ TEST(PreviewTables, OnlyPreviewsSetTheFlag) {
     preview.preview = true;
     preview.apply(spec);
     EXPECT_TRUE(spec.previewBrdfTables);
+    EXPECT_FALSE(spec.exactBrdf);
+    RenderOverrides exact;
+    exact.exactBrdf = true;
+    exact.apply(spec);
+    EXPECT_TRUE(spec.exactBrdf);
 }
 
-TEST(PreviewTables, PreviewImageWithinTheTablesBoundAndThreadIndependent) {
-    const SceneSpec exactSpec = scene();
-    SceneSpec previewSpec = exactSpec;
-    previewSpec.previewBrdfTables = true;
+// The image with tables (`tabled`) against the series' image, and thread independence.
+void expectWithinBound(SceneSpec tabled, const HeTorranceTable::Resolution& res) {
+    SceneSpec exactSpec = scene();
+    exactSpec.exactBrdf = true;
     const Film exact = render(exactSpec, 2);
-    const Film preview = render(previewSpec, 2);
-    const Film preview1 = render(previewSpec, 1);
-    const auto table = HeTorranceTable::build(HeTorrance{});
+    const Film approx = render(tabled, 2);
+    const Film approx1 = render(tabled, 1);
+    const auto table = HeTorranceTable::build(HeTorrance{}, res);
     ASSERT_TRUE(table);
     // Σ over lights of I/d² at the plane (z ≈ 20 at x = 1.5 … the plane's points differ by far
     // less than the lights' distances; the bound below uses the nearest distance, 0.99 × each).
@@ -94,22 +100,32 @@ TEST(PreviewTables, PreviewImageWithinTheTablesBoundAndThreadIndependent) {
         const double d = (l.position - Vec3(1.5, 1.5, 20.0)).length() * 0.99;
         irradianceScale += l.intensity[0] / (d * d);
     }
-    ASSERT_EQ(exact.pixels().size(), preview.pixels().size());
+    ASSERT_EQ(exact.pixels().size(), approx.pixels().size());
     size_t differing = 0;
     double largest = 0.0, brightest = 0.0;
     for (size_t i = 0; i < exact.pixels().size(); ++i)
         for (int b = 0; b < kBandCount; ++b) {
-            const double diff = std::abs(preview.pixels()[i][b] - exact.pixels()[i][b]);
+            const double diff = std::abs(approx.pixels()[i][b] - exact.pixels()[i][b]);
             differing += diff != 0.0;
             largest = std::max(largest, diff / (table->peak()[b] * irradianceScale));
             brightest = std::max(brightest, exact.pixels()[i][b]);
-            EXPECT_EQ(preview.pixels()[i][b], preview1.pixels()[i][b]);
+            EXPECT_EQ(approx.pixels()[i][b], approx1.pixels()[i][b]);
         }
     std::printf("largest difference %.3g of M·ΣI/d² (bound %g); brightest pixel %.3g\n", largest,
-                HeTorranceTable::kErrorBound, brightest);
+                res.errorBound, brightest);
     EXPECT_GT(brightest, 0.0);
     EXPECT_GT(differing, 0u);  // the table is used
-    EXPECT_LE(largest, HeTorranceTable::kErrorBound);
+    EXPECT_LE(largest, res.errorBound);
+}
+
+TEST(PreviewTables, PreviewImageWithinTheTablesBoundAndThreadIndependent) {
+    SceneSpec previewSpec = scene();
+    previewSpec.previewBrdfTables = true;
+    expectWithinBound(previewSpec, HeTorranceTable::kPreview);
+}
+
+TEST(PreviewTables, FullRenderReadsTheFineTableWithinItsBound) {
+    expectWithinBound(scene(), HeTorranceTable::kFine);
 }
 
 }  // namespace
