@@ -413,6 +413,7 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     recon_.forgetRay();
     prevK_ = -2;
     prevSkippable_ = false;
+    visibleCellEnd_ = -kInf;
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
@@ -482,7 +483,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         const bool sameCell = k_ > packetK0_ && k_ - packetK0_ < packetSameCell_;
         if (!v.cellDistance_.empty()) {
             // One table read per point (header, "Cell distances").
-            if (!sameCell && skipByCellDistance(p)) continue;
+            if (!sameCell && t >= visibleCellEnd_ && skipByCellDistance(p)) continue;
         } else if (set.emptySpaceSkipping && !sameCell) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
@@ -631,7 +632,22 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p) {
         if (unsigned(q[a]) >= unsigned(v.cellCount_[a])) return false;
     }
     const int d = v.cellDistance_[v.cellSlot(q[0], q[1], q[2])];
-    if (d == 0) return false;
+    if (d == 0) {
+        // A visible cell at a fine step holds ~1 / step points: those before the ray's exit
+        // from it need no table read (header, "Cell distances"). Rounding can only put a point
+        // before this exit into the next cell, which is then evaluated instead of tested —
+        // evaluating a transparent point changes nothing but the work done.
+        if (stepVoxels_ < kCellJumpStep) {
+            double tOut = kInf;
+            for (int a = 0; a < 3; ++a) {
+                if (dIdx_[a] == 0.0) continue;
+                const double bound = dIdx_[a] > 0.0 ? double(cell[a]) + 1.0 : double(cell[a]);
+                tOut = std::min(tOut, (bound - oIdx_[a]) * invDIdx_[a]);
+            }
+            visibleCellEnd_ = tOut;
+        }
+        return false;
+    }
     if (d == 1 && stepVoxels_ >= kCellJumpStep) {
         // A lone transparent cell at a coarse step holds one or two points: a step is cheaper
         // than the jump.
