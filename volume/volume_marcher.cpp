@@ -278,20 +278,27 @@ void DvrVolume::computeCellDistances() {
     const size_t row = size_t(px), slab = size_t(px) * py;
     constexpr unsigned char cap = kCellDistanceCap;
     std::vector<unsigned char> d(slab * pz, cap);
-    tbb::parallel_for(0, nz, [&](int z) {
-        for (int y = 0; y < ny; ++y) {
-            unsigned char* out = &d[size_t(z + 1) * slab + size_t(y + 1) * row + 1];
-            for (int x = 0; x < nx; ++x) {
-                const size_t brick =
-                    (size_t(z >> shift) * brickCount_[1] + (y >> shift)) * brickCount_[0] +
-                    (x >> shift);
-                const int bit = ((z & (b - 1)) * b + (y & (b - 1))) * b + (x & (b - 1));
-                const bool t =
-                    brickTransparent_[brick] != 0 ||
-                    (cellTransparent_[brick * size_t(cellWords_) + (bit >> 6)] >> (bit & 63) & 1);
-                out[x] = t ? cap : 0;
+    // Brick by brick: transparent bricks keep `cap`; the others take their cell bits.
+    auto forEachBrick = [&](auto&& fn) {
+        tbb::parallel_for(0, brickCount_[2], [&](int bz) {
+            for (int by = 0; by < brickCount_[1]; ++by)
+                for (int bx = 0; bx < brickCount_[0]; ++bx)
+                    fn(bx, by, bz,
+                       (size_t(bz) * brickCount_[1] + by) * size_t(brickCount_[0]) + bx);
+        });
+    };
+    forEachBrick([&](int bx, int by, int bz, size_t brick) {
+        if (brickTransparent_[brick]) return;
+        const uint64_t* words = &cellTransparent_[brick * size_t(cellWords_)];
+        for (int cz = 0; cz < b; ++cz)
+            for (int cy = 0; cy < b; ++cy) {
+                unsigned char* out = &d[size_t(bz * b + cz + 1) * slab +
+                                        size_t(by * b + cy + 1) * row + size_t(bx * b + 1)];
+                for (int cx = 0; cx < b; ++cx) {
+                    const int bit = (cz * b + cy) * b + cx;
+                    out[cx] = (words[bit >> 6] >> (bit & 63) & 1) ? cap : 0;
+                }
             }
-        }
     });
     std::vector<unsigned char> near(static_cast<size_t>(px));
     // One pass; sign +1: forwards (neighbours at y − 1 and z − 1), −1: backwards.
@@ -309,14 +316,18 @@ void DvrVolume::computeCellDistances() {
                     m = std::min(m, std::min(std::min(r1[x - 1], r1[x]), r1[x + 1]));
                     m = std::min(m, std::min(std::min(r2[x - 1], r2[x]), r2[x + 1]));
                     m = std::min(m, std::min(std::min(r3[x - 1], r3[x]), r3[x + 1]));
-                    near[size_t(x)] = m;
+                    // m ≤ cap < 255: no overflow. Visible cells (0) stay 0.
+                    near[size_t(x)] = std::min(c[x], (unsigned char)(m + 1));
                 }
-                // Along the row, in this pass's order; visible cells (0) stay 0.
-                for (int xi = 0; xi < nx; ++xi) {
-                    const int x = sign > 0 ? xi + 1 : nx - xi;
-                    if (c[x] == 0) continue;
-                    const int m = std::min<int>(near[size_t(x)], c[x - sign]) + 1;
-                    if (m < c[x]) c[x] = (unsigned char)m;
+                // Along the row, in this pass's order: c = min(near, previous + 1), branch-free.
+                if (sign > 0) {
+                    int e = cap;
+                    for (int x = 1; x <= nx; ++x)
+                        c[x] = (unsigned char)(e = std::min<int>(near[size_t(x)], e + 1));
+                } else {
+                    int e = cap;
+                    for (int x = nx; x >= 1; --x)
+                        c[x] = (unsigned char)(e = std::min<int>(near[size_t(x)], e + 1));
                 }
             }
         }
@@ -326,11 +337,13 @@ void DvrVolume::computeCellDistances() {
     // Stored brick by brick (the B³ cells of a brick together, x fastest: one 64-byte cache line
     // at B = 4), so the rays of a tile that look up nearby cells share lines.
     cellDistance_.resize(size_t(nx) * ny * nz);
-    tbb::parallel_for(0, nz, [&](int z) {
-        for (int y = 0; y < ny; ++y)
-            for (int x = 0; x < nx; ++x)
-                cellDistance_[cellSlot(x, y, z)] =
-                    d[size_t(z + 1) * slab + size_t(y + 1) * row + size_t(x + 1)];
+    forEachBrick([&](int bx, int by, int bz, size_t brick) {
+        unsigned char* out = &cellDistance_[brick << (3 * shift)];
+        for (int cz = 0; cz < b; ++cz)
+            for (int cy = 0; cy < b; ++cy, out += b)
+                std::copy_n(&d[size_t(bz * b + cz + 1) * slab + size_t(by * b + cy + 1) * row +
+                               size_t(bx * b + 1)],
+                            b, out);
     });
 }
 
