@@ -213,6 +213,7 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                         }
             }
     });
+    if (dense_ && settings_.emptySpaceSkipping && !settings_.preIntegrated) computeCellDistances();
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
     tfArrays_ = std::make_shared<const TfArrays>(tf_);
@@ -259,6 +260,106 @@ void DvrVolume::computeClearance() {
     };
     pass(+1);
     pass(-1);
+}
+
+void DvrVolume::computeCellDistances() {
+    // Header, "Cell distances": the capped chessboard distance transform of the transparent
+    // cells by the two-pass chamfer transform with unit weights over the 26-neighbourhood, exact
+    // for the chessboard metric (Rosenfeld & Pfaltz 1966; Borgefors 1984), as computeClearance
+    // does for the bricks. Each pass relaxes a cell from its 13 neighbours that precede it in
+    // the pass's raster order: the 12 in the previous row and slab at once for a whole row (a
+    // loop the compiler vectorises), then the one before it in the row, in order. The table is
+    // padded by one cell of `cap` on every side (outside counts as transparent) so no neighbour
+    // needs a bounds test; the result is copied out without the padding.
+    const int b = settings_.brickSize, shift = brickShift_;
+    for (int a = 0; a < 3; ++a) cellCount_[a] = brickCount_[a] * b;
+    const int nx = cellCount_[0], ny = cellCount_[1], nz = cellCount_[2];
+    const int px = nx + 2, py = ny + 2, pz = nz + 2;
+    const size_t row = size_t(px), slab = size_t(px) * py;
+    constexpr unsigned char cap = kCellDistanceCap;
+    std::vector<unsigned char> d(slab * pz, cap);
+    // Brick by brick: transparent bricks keep `cap`; the others take their cell bits.
+    auto forEachBrick = [&](auto&& fn) {
+        tbb::parallel_for(0, brickCount_[2], [&](int bz) {
+            for (int by = 0; by < brickCount_[1]; ++by)
+                for (int bx = 0; bx < brickCount_[0]; ++bx)
+                    fn(bx, by, bz,
+                       (size_t(bz) * brickCount_[1] + by) * size_t(brickCount_[0]) + bx);
+        });
+    };
+    forEachBrick([&](int bx, int by, int bz, size_t brick) {
+        if (brickTransparent_[brick]) return;
+        const uint64_t* words = &cellTransparent_[brick * size_t(cellWords_)];
+        for (int cz = 0; cz < b; ++cz)
+            for (int cy = 0; cy < b; ++cy) {
+                unsigned char* out = &d[size_t(bz * b + cz + 1) * slab +
+                                        size_t(by * b + cy + 1) * row + size_t(bx * b + 1)];
+                for (int cx = 0; cx < b; ++cx) {
+                    const int bit = (cz * b + cy) * b + cx;
+                    out[cx] = (words[bit >> 6] >> (bit & 63) & 1) ? cap : 0;
+                }
+            }
+    });
+    std::vector<unsigned char> near(static_cast<size_t>(px));
+    // One pass; sign +1: forwards (neighbours at y − 1 and z − 1), −1: backwards.
+    auto pass = [&](int sign) {
+        const std::ptrdiff_t dy = sign * std::ptrdiff_t(row), dz = sign * std::ptrdiff_t(slab);
+        for (int zi = 0; zi < nz; ++zi) {
+            const int z = sign > 0 ? zi + 1 : nz - zi;
+            for (int yi = 0; yi < ny; ++yi) {
+                const int y = sign > 0 ? yi + 1 : ny - yi;
+                unsigned char* c = &d[size_t(z) * slab + size_t(y) * row];
+                const unsigned char *r0 = c - dy, *r1 = c - dz - dy, *r2 = c - dz,
+                                    *r3 = c - dz + dy;
+                for (int x = 1; x <= nx; ++x) {
+                    unsigned char m = std::min(std::min(r0[x - 1], r0[x]), r0[x + 1]);
+                    m = std::min(m, std::min(std::min(r1[x - 1], r1[x]), r1[x + 1]));
+                    m = std::min(m, std::min(std::min(r2[x - 1], r2[x]), r2[x + 1]));
+                    m = std::min(m, std::min(std::min(r3[x - 1], r3[x]), r3[x + 1]));
+                    // m ≤ cap < 255: no overflow. Visible cells (0) stay 0.
+                    near[size_t(x)] = std::min(c[x], (unsigned char)(m + 1));
+                }
+                // Along the row, in this pass's order: c = min(near, previous + 1), branch-free.
+                if (sign > 0) {
+                    int e = cap;
+                    for (int x = 1; x <= nx; ++x)
+                        c[x] = (unsigned char)(e = std::min<int>(near[size_t(x)], e + 1));
+                } else {
+                    int e = cap;
+                    for (int x = nx; x >= 1; --x)
+                        c[x] = (unsigned char)(e = std::min<int>(near[size_t(x)], e + 1));
+                }
+            }
+        }
+    };
+    pass(+1);
+    pass(-1);
+    // Stored brick by brick (the B³ cells of a brick together, x fastest: one 64-byte cache line
+    // at B = 4), so the rays of a tile that look up nearby cells share lines.
+    cellDistance_.resize(size_t(nx) * ny * nz);
+    forEachBrick([&](int bx, int by, int bz, size_t brick) {
+        unsigned char* out = &cellDistance_[brick << (3 * shift)];
+        for (int cz = 0; cz < b; ++cz)
+            for (int cy = 0; cy < b; ++cy, out += b)
+                std::copy_n(&d[size_t(bz * b + cz + 1) * slab + size_t(by * b + cy + 1) * row +
+                               size_t(bx * b + 1)],
+                            b, out);
+    });
+}
+
+bool DvrVolume::cellTransparent(int i, int j, int k) const {
+    if (brickTransparent_.empty()) return false;
+    const int q[3] = {i - brickLo_[0], j - brickLo_[1], k - brickLo_[2]};
+    const int b = settings_.brickSize;
+    int bi[3], bit = 0;
+    for (int a = 2; a >= 0; --a) {
+        if (q[a] < 0 || q[a] >= brickCount_[a] * b) return false;
+        bi[a] = q[a] >> brickShift_;
+        bit = bit * b + (q[a] & (b - 1));
+    }
+    const size_t brick = (size_t(bi[2]) * brickCount_[1] + bi[1]) * brickCount_[0] + bi[0];
+    return brickTransparent_[brick] != 0 ||
+           (cellTransparent_[brick * size_t(cellWords_) + (bit >> 6)] >> (bit & 63) & 1);
 }
 
 double DvrVolume::transparentBrickFraction() const {
@@ -325,6 +426,7 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     recon_.forgetRay();
     prevK_ = -2;
     prevSkippable_ = false;
+    visibleCellEnd_ = -kInf;
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
@@ -392,7 +494,10 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         // A packet starts at a point found visible; the points after it in the same cell
         // (floor(p) equal) get the same answer from the tables below, so they skip the test.
         const bool sameCell = k_ > packetK0_ && k_ - packetK0_ < packetSameCell_;
-        if (set.emptySpaceSkipping && !sameCell) {
+        if (!v.cellDistance_.empty()) {
+            // One table read per point (header, "Cell distances").
+            if (!sameCell && t >= visibleCellEnd_ && skipByCellDistance(p)) continue;
+        } else if (set.emptySpaceSkipping && !sameCell) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
             // Points of an edge brick's clamp may lie outside it: their cell is not tested.
@@ -526,6 +631,63 @@ bool VolumeRaySampler::fillPacket() {
     packetSameCell_ = packetN_ > 0 ? packet_.sameCell : 0;
     packets_ += packetN_ > 0 ? 1 : 0;
     return packetN_ > 0;
+}
+
+bool VolumeRaySampler::skipByCellDistance(const Vec3& p) {
+    const DvrVolume& v = *vol_;
+    int cell[3], q[3];
+    for (int a = 0; a < 3; ++a) {
+        int f = int(p[a]);
+        f -= p[a] < double(f) ? 1 : 0;  // floor, |p| < 2³¹ inside the domain
+        cell[a] = f;
+        q[a] = f - v.brickLo_[a];
+        // A point that rounding puts just outside the table is evaluated, never skipped.
+        if (unsigned(q[a]) >= unsigned(v.cellCount_[a])) return false;
+    }
+    const int d = v.cellDistance_[v.cellSlot(q[0], q[1], q[2])];
+    if (d == 0) {
+        // A visible cell at a fine step holds ~1 / step points: those before the ray's exit
+        // from it need no table read (header, "Cell distances"). Rounding can only put a point
+        // before this exit into the next cell, which is then evaluated instead of tested —
+        // evaluating a transparent point changes nothing but the work done.
+        if (stepVoxels_ < kCellJumpStep) {
+            double tOut = kInf;
+            for (int a = 0; a < 3; ++a) {
+                if (dIdx_[a] == 0.0) continue;
+                const double bound = dIdx_[a] > 0.0 ? double(cell[a]) + 1.0 : double(cell[a]);
+                tOut = std::min(tOut, (bound - oIdx_[a]) * invDIdx_[a]);
+            }
+            visibleCellEnd_ = tOut;
+        }
+        return false;
+    }
+    if (d == 1 && stepVoxels_ >= kCellJumpStep) {
+        // A lone transparent cell at a coarse step holds one or two points: a step is cheaper
+        // than the jump.
+        ++skipped_;
+        ++k_;
+        return true;
+    }
+    if (d == DvrVolume::kCellDistanceCap) {
+        // Far from anything visible: the cube of bricks around the cell's brick when it is
+        // larger (its half-side is at least (c − 1)·B, the cells' d − 1).
+        const int shift = v.brickShift_, b = 1 << shift;
+        int bi[3];
+        for (int a = 0; a < 3; ++a) bi[a] = q[a] >> shift;
+        const int c =
+            v.brickTransparent_[(size_t(bi[2]) * v.brickCount_[1] + bi[1]) * v.brickCount_[0] +
+                                bi[0]];
+        if ((c - 1) * b > d - 1) {
+            int lo[3];
+            for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - c + 1) * b;
+            jumpPastBox(lo, (2 * c - 1) * b);
+            return true;
+        }
+    }
+    int lo[3];
+    for (int a = 0; a < 3; ++a) lo[a] = cell[a] - d + 1;
+    jumpPastBox(lo, 2 * d - 1);
+    return true;
 }
 
 void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {

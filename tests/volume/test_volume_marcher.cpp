@@ -311,6 +311,151 @@ TEST(VolumeMarcher, LongJumpsChangeNoSample) {
     }
 }
 
+// A 48³ grid of zeros with a few random small balls (fixed seed): most cells are transparent
+// under a step transfer function, the visible ones few enough for brute-force references.
+openvdb::FloatGrid::Ptr randomBalls(uint64_t seed, int balls,
+                                    std::vector<Vec3>* centres = nullptr) {
+    Rng rng(seed, 0);
+    std::vector<std::array<double, 4>> b;
+    for (int n = 0; n < balls; ++n)
+        b.push_back({4.0 + 40.0 * rng.uniform(), 4.0 + 40.0 * rng.uniform(),
+                     4.0 + 40.0 * rng.uniform(), 1.0 + 2.5 * rng.uniform()});
+    if (centres)
+        for (const auto& c : b) centres->push_back(Vec3(c[0], c[1], c[2]));
+    return test::makeGrid(
+        [b](int i, int j, int k) {
+            double v = 0.0;
+            for (const auto& c : b) {
+                const double r2 =
+                    (i - c[0]) * (i - c[0]) + (j - c[1]) * (j - c[1]) + (k - c[2]) * (k - c[2]);
+                v = std::max(v, std::exp(-r2 / (c[3] * c[3])));
+            }
+            return v;
+        },
+        Coord(0), Coord(47));
+}
+
+TEST(VolumeMarcher, CellDistanceIsTheCappedChessboardDistance) {
+    // Against a brute-force search over the cells the brick and cell tables call visible: every
+    // cell of the table holds min(cap, L∞ distance in cells to the nearest visible one), for
+    // several brick sizes and both supports (trilinear 2³, B-spline 4³).
+    const int cap = DvrVolume::kCellDistanceCap;
+    int largest = 0, checked = 0;
+    for (int bs : {2, 4, 8})
+        for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline}) {
+            DvrSettings set;
+            set.brickSize = bs;
+            set.reconstruction = r;
+            const DvrVolume vol(randomBalls(7 + bs, 3), stepTf(0.3), set);
+            ASSERT_TRUE(vol.hasCellDistances());
+            std::vector<std::array<int, 3>> visible, cells;
+            for (int k = -12; k < 64; ++k)
+                for (int j = -12; j < 64; ++j)
+                    for (int i = -12; i < 64; ++i) {
+                        if (vol.cellDistance(i, j, k) < 0) continue;
+                        cells.push_back({i, j, k});
+                        if (!vol.cellTransparent(i, j, k)) visible.push_back({i, j, k});
+                    }
+            ASSERT_GT(visible.size(), 20u);
+            ASSERT_GT(cells.size(), 50u * 50u * 50u);
+            for (const auto& c : cells) {
+                int expected = cap;
+                for (const auto& v : visible)
+                    expected =
+                        std::min(expected, std::max({std::abs(c[0] - v[0]), std::abs(c[1] - v[1]),
+                                                     std::abs(c[2] - v[2])}));
+                ASSERT_EQ(vol.cellDistance(c[0], c[1], c[2]), expected)
+                    << c[0] << " " << c[1] << " " << c[2] << " brick " << bs;
+                largest = std::max(largest, expected);
+                ++checked;
+            }
+        }
+    EXPECT_EQ(largest, cap);  // saturated cells exist: the brick clearance takes over there
+    EXPECT_GT(checked, 6 * 125000);
+}
+
+TEST(VolumeMarcher, CellsCalledTransparentReconstructOnlyTransparentValues) {
+    // Independent of the tables' construction: at random points of every cell within 2 cells of
+    // a visible one (where a wrong table would show first), the reconstructed value's opacity
+    // is 0 — so a jump past a cube of cells with distance ≥ 1 passes no visible sample.
+    for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline}) {
+        const openvdb::FloatGrid::Ptr grid = randomBalls(21, 4);
+        const TransferFunction tf = stepTf(0.3);
+        DvrSettings set;
+        set.reconstruction = r;
+        const DvrVolume vol(grid, tf, set);
+        GridReconstructor recon(*grid);
+        Rng rng(5, 1);
+        long long tested = 0;
+        for (int k = -4; k < 52; ++k)
+            for (int j = -4; j < 52; ++j)
+                for (int i = -4; i < 52; ++i) {
+                    const int d = vol.cellDistance(i, j, k);
+                    if (d < 1 || d > 2) continue;
+                    for (int n = 0; n < 4; ++n) {
+                        const Vec3 p(i + rng.uniform(), j + rng.uniform(), k + rng.uniform());
+                        ASSERT_EQ(tf.opacity(recon.value(r, p)), 0.0) << i << " " << j << " " << k;
+                        ++tested;
+                    }
+                }
+        EXPECT_GT(tested, 4000);
+    }
+}
+
+TEST(VolumeMarcher, CellDistanceJumpsChangeNoSampleOnRandomVolumes) {
+    // Random volumes and rays (fixed seeds) at coarse and fine steps: with skipping (the cell
+    // distance table) every contributing sample equals the one without skipping, and the points
+    // skipped plus those evaluated are the points marched without skipping.
+    for (int volume = 0; volume < 3; ++volume)
+        for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline})
+            for (double step : {1.0, 0.5, 0.3, 0.05}) {
+                DvrSettings on, off;
+                on.reconstruction = off.reconstruction = r;
+                on.stepVoxels = off.stepVoxels = step;
+                off.emptySpaceSkipping = false;
+                std::vector<Vec3> centres;
+                const openvdb::FloatGrid::Ptr grid = randomBalls(100 + volume, 6, &centres);
+                const TransferFunction tf = TransferFunction::cortex(0.4, 0.3);
+                const DvrVolume vOn(grid, tf, on), vOff(grid, tf, off);
+                ASSERT_TRUE(vOn.hasCellDistances());
+                long long skipped = 0, evalOn = 0, evalOff = 0, contributing = 0;
+                for (int n = 0; n < 60; ++n) {
+                    Rng rng(31 + volume, n);
+                    const Vec3 dir = normalized(
+                        Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+                    // Half the rays aim near a ball, half anywhere.
+                    const Vec3 target =
+                        n % 2 ? centres[size_t(n / 2) % centres.size()] +
+                                    3.0 * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5,
+                                               rng.uniform() - 0.5)
+                              : Vec3(4.0 + 40.0 * rng.uniform(), 4.0 + 40.0 * rng.uniform(),
+                                     4.0 + 40.0 * rng.uniform());
+                    Ray ray;
+                    ray.o = target - 90.0 * dir;
+                    ray.d = dir;
+                    VolumeRaySampler a(vOn), b(vOff);
+                    contributing += expectSameSamples(a, b, ray, rng.uniform());
+                    skipped += a.samplesSkipped();
+                    evalOn += a.samplesEvaluated();
+                    evalOff += b.samplesEvaluated();
+                }
+                EXPECT_GT(contributing, 20) << volume << " " << step;
+                EXPECT_GT(skipped, evalOn) << volume << " " << step;
+                EXPECT_EQ(evalOn + skipped, evalOff) << volume << " " << step;
+            }
+}
+
+TEST(VolumeMarcher, CellDistancesOnlyWhereTheyApply) {
+    // Pre-integration keeps the brick and cell tests (its segments need them); so does a volume
+    // rendered without skipping.
+    DvrSettings pre, noSkip;
+    pre.preIntegrated = true;
+    noSkip.emptySpaceSkipping = false;
+    EXPECT_FALSE(DvrVolume(randomBalls(3, 2), stepTf(0.3), pre).hasCellDistances());
+    EXPECT_FALSE(DvrVolume(randomBalls(3, 2), stepTf(0.3), noSkip).hasCellDistances());
+    EXPECT_TRUE(DvrVolume(randomBalls(3, 2), stepTf(0.3), DvrSettings()).hasCellDistances());
+}
+
 TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
     // On the ramp f = x the cubic B-spline reproduces x exactly, so cell [c, c+1) holds values
     // [c, c+1]: its Bézier coefficients (c, c + 1/3, c + 2/3, c + 1 along x) say so, where the
