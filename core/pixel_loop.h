@@ -60,15 +60,27 @@ private:
     int x_, y_;
 };
 
+// tileFn(tile, pixels) once for every tile of a width × height image, tiles in parallel;
+// pixels(fn) calls fn(const PixelSamples&) for each pixel of the tile, row by row. For callers
+// that look up their thread's state once per tile rather than once per pixel.
+template <class TileFn>
+void forEachPixelByTile(int width, int height, const PixelSampling& sampling,
+                        const SchedulerOptions& scheduler, TileFn&& tileFn) {
+    const StrataGrid strata = strataFor(sampling.samplesPerPixel);
+    forEachTile(width, height, scheduler, [&](const Tile& tile) {
+        tileFn(tile, [&](auto&& fn) {
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; ++x) fn(PixelSamples(sampling, strata, x, y));
+        });
+    });
+}
+
 // fn(const PixelSamples&) once for every pixel of a width × height image, tiles in parallel.
 template <class Fn>
 void forEachPixel(int width, int height, const PixelSampling& sampling,
                   const SchedulerOptions& scheduler, Fn&& fn) {
-    const StrataGrid strata = strataFor(sampling.samplesPerPixel);
-    forEachTile(width, height, scheduler, [&](const Tile& tile) {
-        for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) fn(PixelSamples(sampling, strata, x, y));
-    });
+    forEachPixelByTile(width, height, sampling, scheduler,
+                       [&](const Tile&, auto&& pixels) { pixels(fn); });
 }
 
 }  // namespace lobe

@@ -124,25 +124,32 @@ Film RenderScene::render(const RenderOptions& options, RenderStats* statsOut, co
     scheduler.rowBegin = options.rowBegin;
     scheduler.rowEnd = options.rowEnd;
     scheduler.tileSource = options.tileSource;
-    forEachPixel(spec.width, spec.height, samplingOf(spec), scheduler,
-                 [&](const PixelSamples& samples) {
-                     TraceState& st = states.local();
-                     // With options.cost the pixel is timed, for its thread's CPU/wall ratio.
-                     if (options.cost && !st.cost.started()) st.cost.start();
-                     const double wall0 = options.cost ? steadySeconds() : 0.0;
-                     const int row = samples.y() - firstRow;
-                     if (!withAovs) {
-                         film.at(samples.x(), row) =
-                             pixelValue(scene_, integrator_, samples, st, stats.local());
-                     } else {
-                         AovAccumulator& acc = accumulators.local();
-                         film.at(samples.x(), row) =
-                             pixelValue(scene_, integrator_, samples, st, stats.local(), &acc);
-                         acc.finishPixel(samples.count(),
-                                         size_t(row) * spec.width + size_t(samples.x()), *aovs);
-                     }
-                     if (options.cost) st.cost.pixelSeconds += steadySeconds() - wall0;
-                 });
+    // The thread's state, counters and passes are looked up once per tile (a lookup per pixel
+    // cost about 2 % of an opaque 1-spp render).
+    forEachPixelByTile(
+        spec.width, spec.height, samplingOf(spec), scheduler, [&](const Tile&, auto&& pixels) {
+            TraceState& st = states.local();
+            RenderStats& rs = stats.local();
+            if (!withAovs && !options.cost) {
+                pixels([&](const PixelSamples& samples) {
+                    film.at(samples.x(), samples.y() - firstRow) =
+                        pixelValue(scene_, integrator_, samples, st, rs);
+                });
+                return;
+            }
+            AovAccumulator* acc = withAovs ? &accumulators.local() : nullptr;
+            // With options.cost the pixel is timed, for its thread's CPU/wall ratio.
+            if (options.cost && !st.cost.started()) st.cost.start();
+            pixels([&](const PixelSamples& samples) {
+                const double wall0 = options.cost ? steadySeconds() : 0.0;
+                const int row = samples.y() - firstRow;
+                film.at(samples.x(), row) = pixelValue(scene_, integrator_, samples, st, rs, acc);
+                if (acc)
+                    acc->finishPixel(samples.count(),
+                                     size_t(row) * spec.width + size_t(samples.x()), *aovs);
+                if (options.cost) st.cost.pixelSeconds += steadySeconds() - wall0;
+            });
+        });
     if (options.cost) {
         *options.cost = RenderCost();
         options.cost->objects.resize(size_t(objectCount));
