@@ -46,8 +46,8 @@ struct Stopwatch {
 // RMSE of the band values of an image against a reference over all pixels; with `relative`,
 // also that RMSE divided by the reference's mean band value (so it reads as a fraction of the
 // image's level; 0 for a black reference).
-inline double rmse(const std::vector<Spectrum>& image, const std::vector<Spectrum>& reference,
-                   double* relative = nullptr) {
+template <class Pixels>  // std::vector<Spectrum> or FilmPixels (core/film.h)
+double rmse(const Pixels& image, const Pixels& reference, double* relative = nullptr) {
     double se = 0.0, mean = 0.0;
     const size_t n = reference.size();
     for (size_t i = 0; i < n; ++i)

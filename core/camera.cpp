@@ -28,15 +28,4 @@ PinholeCamera::PinholeCamera(const Vec3& position, const Vec3& target, const Vec
     halfWidth_ = halfHeight_ * aspect;
 }
 
-Ray PinholeCamera::generateRay(double u, double v) const {
-    const double fu = crop_.x0 + u * (crop_.x1 - crop_.x0);
-    const double fv = crop_.y0 + v * (crop_.y1 - crop_.y0);
-    const double sx = (2.0 * fu - 1.0) * halfWidth_;
-    const double sy = (1.0 - 2.0 * fv) * halfHeight_;
-    Ray ray;
-    ray.o = position_;
-    ray.d = normalized(forward_ + right_ * sx + up_ * sy);
-    return ray;
-}
-
 }  // namespace lobe

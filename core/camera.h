@@ -21,7 +21,17 @@ public:
                   double aspect, const CropWindow& crop = {});
 
     // Ray through the point (u, v) of the image, both in [0,1], u to the right, v downwards.
-    Ray generateRay(double u, double v) const;
+    // Inline: the pixel loop calls it once per sample.
+    Ray generateRay(double u, double v) const {
+        const double fu = crop_.x0 + u * (crop_.x1 - crop_.x0);
+        const double fv = crop_.y0 + v * (crop_.y1 - crop_.y0);
+        const double sx = (2.0 * fu - 1.0) * halfWidth_;
+        const double sy = (1.0 - 2.0 * fv) * halfHeight_;
+        Ray ray;
+        ray.o = position_;
+        ray.d = normalized(forward_ + right_ * sx + up_ * sy);
+        return ray;
+    }
 
     const Vec3& position() const { return position_; }
     const Vec3& forward() const { return forward_; }

@@ -37,10 +37,17 @@ public:
     template <class Fn>
     void forEach(Fn&& fn) const {
         for (int s = 0; s < sampling_.samplesPerPixel; ++s) {
-            Rng rng = pixelSampleRng(sampling_.seed, uint32_t(x_), uint32_t(y_), uint32_t(s));
-            const Vec2 j = jitteredSample(strata_, s, rng);
+            Rng rng;
+            const Vec2 j = start(s, rng);
             fn(j, rng);
         }
+    }
+
+    // Sample s's jitter, its stream left in `rng` (advanced past the jitter): what forEach hands
+    // fn, for callers that prepare several samples before using any (render/render_scene.cpp).
+    Vec2 start(int s, Rng& rng) const {
+        rng = pixelSampleRng(sampling_.seed, uint32_t(x_), uint32_t(y_), uint32_t(s));
+        return jitteredSample(strata_, s, rng);
     }
 
     // The mean of fn(j, rng) → Spectrum over the samples; a non-finite mean becomes 0, so no
@@ -49,6 +56,11 @@ public:
     Spectrum mean(Fn&& fn) const {
         Spectrum sum;
         forEach([&](const Vec2& j, Rng& rng) { sum += fn(j, rng); });
+        return meanOf(sum);
+    }
+
+    // The mean given the sum of the samples' values in sample order (as mean() forms it).
+    Spectrum meanOf(const Spectrum& sum) const {
         Spectrum value = sum * (1.0 / sampling_.samplesPerPixel);
         if (!value.isFinite()) value = Spectrum(0.0);
         return value;
@@ -60,15 +72,27 @@ private:
     int x_, y_;
 };
 
+// tileFn(tile, pixels) once for every tile of a width × height image, tiles in parallel;
+// pixels(fn) calls fn(const PixelSamples&) for each pixel of the tile, row by row. For callers
+// that look up their thread's state once per tile rather than once per pixel.
+template <class TileFn>
+void forEachPixelByTile(int width, int height, const PixelSampling& sampling,
+                        const SchedulerOptions& scheduler, TileFn&& tileFn) {
+    const StrataGrid strata = strataFor(sampling.samplesPerPixel);
+    forEachTile(width, height, scheduler, [&](const Tile& tile) {
+        tileFn(tile, [&](auto&& fn) {
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; ++x) fn(PixelSamples(sampling, strata, x, y));
+        });
+    });
+}
+
 // fn(const PixelSamples&) once for every pixel of a width × height image, tiles in parallel.
 template <class Fn>
 void forEachPixel(int width, int height, const PixelSampling& sampling,
                   const SchedulerOptions& scheduler, Fn&& fn) {
-    const StrataGrid strata = strataFor(sampling.samplesPerPixel);
-    forEachTile(width, height, scheduler, [&](const Tile& tile) {
-        for (int y = tile.y0; y < tile.y1; ++y)
-            for (int x = tile.x0; x < tile.x1; ++x) fn(PixelSamples(sampling, strata, x, y));
-    });
+    forEachPixelByTile(width, height, sampling, scheduler,
+                       [&](const Tile&, auto&& pixels) { pixels(fn); });
 }
 
 }  // namespace lobe

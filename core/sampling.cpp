@@ -11,12 +11,4 @@ StrataGrid strataFor(int sampleCount) {
     return {rows, n / rows};
 }
 
-Vec2 jitteredSample(const StrataGrid& grid, int index, Rng& rng) {
-    const int row = index / grid.cols;
-    const int col = index % grid.cols;
-    const double jx = rng.uniform();
-    const double jy = rng.uniform();
-    return Vec2((col + jx) / grid.cols, (row + jy) / grid.rows);
-}
-
 }  // namespace lobe

@@ -15,6 +15,13 @@ struct StrataGrid {
 StrataGrid strataFor(int sampleCount);
 
 // Position in [0,1)² of sample `index` of `grid`: the stratum's corner plus a uniform jitter.
-Vec2 jitteredSample(const StrataGrid& grid, int index, Rng& rng);
+// Inline: the pixel loop calls it once per sample.
+inline Vec2 jitteredSample(const StrataGrid& grid, int index, Rng& rng) {
+    const int row = index / grid.cols;
+    const int col = index % grid.cols;
+    const double jx = rng.uniform();
+    const double jy = rng.uniform();
+    return Vec2((col + jx) / grid.cols, (row + jy) / grid.rows);
+}
 
 }  // namespace lobe

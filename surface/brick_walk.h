@@ -88,7 +88,9 @@ inline BrickCells BrickCells::classify(const float* v, double iso) {
 // The first root of f − iso along the index-space ray o + t·d, t ∈ [tMin, tMax], inside the
 // brick at `origin`. corners(lx, ly, lz, c) fills c[8] (trilinear_cell.h order) for the cell at
 // origin + (lx, ly, lz), 0 ≤ l < 8; it is called for straddling cells only.
-template <typename Corners>
+// kSkipByBound = false solves every straddling cell's cubic (no Bernstein skip): the reference
+// the tests compare the walk against, bit for bit.
+template <typename Corners, bool kSkipByBound = true>
 bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, double iso,
                       const Vec3& o, const Vec3& d, double tMin, double tMax,
                       const Corners& corners, double& tHit) {
@@ -196,7 +198,11 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
                     return true;
                 }
                 double s = 0.0;
-                if (firstRootOnInterval(g, tEnd - t, tol, s)) {
+                // Most straddling cells a ray crosses hold no root on its segment: the Bernstein
+                // bound proves that for most of them without the derivative's roots, and
+                // firstRootOnInterval would then return false (trilinear_cell.h).
+                if (!(kSkipByBound && cubicHasNoRootOn(g, tEnd - t)) &&
+                    firstRootOnInterval(g, tEnd - t, tol, s)) {
                     tHit = std::min(t + s, t1);
                     return true;
                 }

@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lobe {
 
@@ -123,6 +124,27 @@ inline double refineMonotoneRoot(const Cubic& g, double lo, double hi, double gL
         s = next;
     }
     return s;
+}
+
+// True when the cubic g has one strict sign on [0, L] by a margin that rounding cannot cross, so
+// that firstRootOnInterval(g, L, …) is certain to return false (no evaluation of g at a point of
+// [0, L] can round to 0 or to the other sign) and its quadratic solve can be skipped. The test is
+// the convex-hull property of the Bernstein form (Farouki & Rajan, "On the numerical condition
+// of polynomials in Bernstein form", CAGD 4, 1987): with a_k = c_k L^k, g on [0, L] lies between
+// the least and the greatest of b0 = a0, b1 = a0 + a1/3, b2 = a0 + 2a1/3 + a2/3,
+// b3 = a0 + a1 + a2 + a3. The margin, 64 ε Σ|a_k|, exceeds the rounding of these sums and of a
+// Horner evaluation of g at any s ∈ [0, L] (at most 6 ε Σ|c_k| s^k: Higham, "Accuracy and
+// Stability of Numerical Algorithms", 2nd ed., §5.1) with room to spare. NaN gives false.
+inline bool cubicHasNoRootOn(const Cubic& g, double length) {
+    const double a0 = g.c[0], a1 = g.c[1] * length, a2 = g.c[2] * (length * length),
+                 a3 = g.c[3] * (length * length * length);
+    const double margin = 64.0 * std::numeric_limits<double>::epsilon() *
+                          (std::abs(a0) + std::abs(a1) + std::abs(a2) + std::abs(a3));
+    const double b1 = a0 + a1 * (1.0 / 3.0), b2 = a0 + a1 * (2.0 / 3.0) + a2 * (1.0 / 3.0),
+                 b3 = a0 + a1 + a2 + a3;
+    if (a0 > margin) return b1 > margin && b2 > margin && b3 > margin;
+    if (a0 < -margin) return b1 < -margin && b2 < -margin && b3 < -margin;
+    return false;
 }
 
 // First s ∈ [0, L] with g(s) = 0, where g is the cubic f − iso; false when there is none. A

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "surface/affine_map.h"
+#include "surface/brick_walk.h"
 #include "surface/embree_device.h"
 #include "surface/trilinear_cell.h"
 
@@ -120,6 +121,97 @@ TEST(TrilinearCell, FirstRootOfACubicWithThreeRoots) {
     t.c[0] = 0.25 - 2.5e-9;
     ASSERT_TRUE(firstRootOnInterval(t, 1.0, 1e-14, root));
     EXPECT_NEAR(root, 0.5 - 5e-5, 1e-10);
+}
+
+TEST(TrilinearCell, BernsteinBoundSkipsOnlyCubicsWithoutARoot) {
+    // No root on [0, 0.2]: (s + 0.05)(s − 0.25)(s − 0.65), all Bernstein coefficients positive.
+    Cubic k;
+    k.c[0] = 0.008125;
+    k.c[1] = 0.1225;
+    k.c[2] = -0.85;
+    k.c[3] = 1.0;
+    EXPECT_TRUE(cubicHasNoRootOn(k, 0.2));
+    double root = -1;
+    EXPECT_FALSE(firstRootOnInterval(k, 0.2, 1e-14, root));
+    // The same cubic on [0, 0.3] has its root at 0.25: never skipped.
+    EXPECT_FALSE(cubicHasNoRootOn(k, 0.3));
+    // A positive cubic the bound cannot prove ((s − 0.5)² + 1e-9: b1 < 0) is left to the solve.
+    Cubic t;
+    t.c[0] = 0.25 + 1e-9;
+    t.c[1] = -1.0;
+    t.c[2] = 1.0;
+    EXPECT_FALSE(cubicHasNoRootOn(t, 1.0));
+    t.c[0] = std::nan("");
+    EXPECT_FALSE(cubicHasNoRootOn(t, 1.0));
+    // Random cubics along random segments of random cells, many of them grazing the iso value:
+    // wherever the bound skips, the solve finds no root either.
+    Rng rng(2026);
+    int skipped = 0, rooted = 0;
+    for (int i = 0; i < 200000; ++i) {
+        double c[8];
+        for (double& v : c) v = rng.uniform() - 0.5;
+        const Vec3 u0(rng.uniform(), rng.uniform(), rng.uniform());
+        const Vec3 du =
+            normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+        Cubic g = trilinearAlongRay(c, u0, du);
+        // Shift so that g touches or nearly touches 0 somewhere: iso = g(s*) ± tiny.
+        const double sStar = rng.uniform();
+        g.c[0] -= g(sStar) + (rng.uniform() - 0.5) * std::ldexp(1.0, -int(rng.uniform() * 60));
+        const double length = rng.uniform();
+        const bool skip = cubicHasNoRootOn(g, length);
+        const bool found = firstRootOnInterval(g, length, 1e-10, root);
+        if (skip) {
+            ++skipped;
+            ASSERT_FALSE(found) << "case " << i;
+        }
+        rooted += found;
+    }
+    EXPECT_GT(skipped, 20000);  // the bound does skip
+    EXPECT_GT(rooted, 20000);
+}
+
+// The brick walk with the Bernstein skip returns the same hit, bit for bit, as the walk that
+// solves every straddling cell, over random rays through bricks of a bumpy sphere.
+TEST(BrickWalk, BernsteinSkipLeavesEveryHitBitIdentical) {
+    constexpr int P = BrickCells::kPoints;
+    std::vector<float> v(BrickCells::kValues);
+    Rng rng(31);
+    const double iso = 0.0;
+    int hits = 0, rays = 0;
+    for (int brick = 0; brick < 20; ++brick) {
+        const Vec3 centre(rng.uniform() * 8, rng.uniform() * 8, rng.uniform() * 8);
+        const double radius = 2.0 + 4.0 * rng.uniform();
+        for (int z = 0; z < P; ++z)
+            for (int y = 0; y < P; ++y)
+                for (int x = 0; x < P; ++x)
+                    v[size_t(x + P * (y + P * z))] = float((Vec3(x, y, z) - centre).length() -
+                                                           radius + 0.3 * (rng.uniform() - 0.5));
+        const BrickCells cells = BrickCells::classify(v.data(), iso);
+        const openvdb::Coord origin(8, -16, 0);
+        const auto corners = [&](int lx, int ly, int lz, double c[8]) {
+            for (int k = 0; k < 8; ++k)
+                c[k] =
+                    v[size_t((lx + (k & 1)) + P * ((ly + ((k >> 1) & 1)) + P * (lz + (k >> 2))))];
+        };
+        for (int r = 0; r < 5000; ++r) {
+            const Vec3 target = Vec3(origin.x(), origin.y(), origin.z()) +
+                                Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 8.0;
+            const Vec3 d =
+                normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+            const Vec3 o = target - d * 20.0;
+            double tA = -1, tB = -1;
+            const bool a = firstRootInBrick(origin, cells, iso, o, d, 0.0, 40.0, corners, tA);
+            const bool b = firstRootInBrick<decltype(corners), false>(origin, cells, iso, o, d, 0.0,
+                                                                      40.0, corners, tB);
+            ASSERT_EQ(a, b) << "brick " << brick << " ray " << r;
+            if (a) {
+                ASSERT_EQ(tA, tB) << "brick " << brick << " ray " << r;
+            }
+            hits += a;
+            ++rays;
+        }
+    }
+    EXPECT_GT(hits, rays / 10);
 }
 
 TEST(AffineMap, AnisotropicSpacingAndFlip) {
