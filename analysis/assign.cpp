@@ -13,36 +13,6 @@
 
 namespace lobe {
 
-double sparkleShare(const float* rgb, int width, int height) {
-    const size_t n = size_t(width) * size_t(height);
-    std::vector<double> y(n);
-    double maxY = 0.0, total = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        y[i] = srgbLuminance(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-        maxY = std::max(maxY, y[i]);
-        total += y[i];
-    }
-    if (!(total > 0.0)) return 0.0;
-    double specks = 0.0;
-    for (int py = 0; py < height; ++py)
-        for (int px = 0; px < width; ++px) {
-            const double v = y[size_t(py) * size_t(width) + size_t(px)];
-            if (!(v > 0.01 * maxY)) continue;
-            double neighbour = 0.0;
-            int count = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int x = px + dx, yy = py + dy;
-                    if ((dx || dy) && x >= 0 && yy >= 0 && x < width && yy < height) {
-                        neighbour += y[size_t(yy) * size_t(width) + size_t(x)];
-                        ++count;
-                    }
-                }
-            if (count > 0 && v > kSparklePeak * neighbour / count) specks += v;
-        }
-    return specks / total;
-}
-
 namespace {
 
 // Whether pixel (px, py) of luminance image y is a speck: above kSparklePeak × the mean of its
@@ -63,6 +33,25 @@ bool isSpeck(const std::vector<double>& y, int width, int height, int px, int py
 }
 
 }  // namespace
+
+double sparkleShare(const float* rgb, int width, int height) {
+    const size_t n = size_t(width) * size_t(height);
+    std::vector<double> y(n);
+    double maxY = 0.0, total = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        y[i] = srgbLuminance(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+        maxY = std::max(maxY, y[i]);
+        total += y[i];
+    }
+    if (!(total > 0.0)) return 0.0;
+    double specks = 0.0;
+    for (int py = 0; py < height; ++py)
+        for (int px = 0; px < width; ++px) {
+            const double v = y[size_t(py) * size_t(width) + size_t(px)];
+            if (v > 0.01 * maxY && isSpeck(y, width, height, px, py)) specks += v;
+        }
+    return specks / total;
+}
 
 double glintShare(const float* rgbA, const float* rgbB, int width, int height,
                   const std::vector<double>& matteY) {
