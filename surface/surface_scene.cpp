@@ -25,6 +25,13 @@ void fillEmbreeRay(const Ray& ray, RTCRay& out) {
     out.flags = 0;
 }
 
+void fillEmbreeRay(const Ray& ray, RTCRayHit& out) {
+    fillEmbreeRay(ray, out.ray);
+    out.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    out.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    out.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
 namespace {
 
 // Embree filter for built-in geometries (the quad mesh): a candidate hit outside the ray's
@@ -128,10 +135,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Ray& ray) const {
     RayContext ctx;
     beginQuery(ray, ctx);
     RTCRayHit rh;
-    fillEmbreeRay(ray, rh.ray);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    fillEmbreeRay(ray, rh);
     rtcIntersect1(scene_.get(), &ctx.base, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
     // A user geometry that accepted the final hit left its double distance in the context.
@@ -210,10 +214,7 @@ void SurfaceScene::collectHits(const Ray& ray, const std::vector<double>& object
     beginQuery(ray, ctx);
     ctx.collector = &out;
     RTCRayHit rh;
-    fillEmbreeRay(ray, rh.ray);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    fillEmbreeRay(ray, rh);
     rtcIntersect1(scene_.get(), &ctx.base, &rh);
     out.transmittanceOfGeom = nullptr;  // the thread's buffer: not valid beyond this call
     out.geomCount = 0;

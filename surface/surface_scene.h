@@ -172,5 +172,7 @@ private:
 
 // Float copies of a double ray for Embree. tMax = ∞ stays ∞.
 void fillEmbreeRay(const Ray& ray, RTCRay& out);
+// The same, with the hit's IDs set to none (for rtcIntersect1).
+void fillEmbreeRay(const Ray& ray, RTCRayHit& out);
 
 }  // namespace lobe
