@@ -17,25 +17,35 @@ namespace {
 
 PixelSampling samplingOf(const SceneSpec& spec) { return {spec.samplesPerPixel, spec.seed}; }
 
+// Sample j of pixel (x, y): its camera ray, and the jitter of its volume lattice drawn next from
+// its stream.
+struct CameraSample {
+    Ray ray;
+    double jitter = 0.0;
+};
+CameraSample cameraSample(const Scene& scene, int x, int y, const Vec2& j, Rng& rng) {
+    const SceneSpec& spec = scene.spec();
+    CameraSample c;
+    c.ray = scene.camera().generateRay((x + j.x) / spec.width, (y + j.y) / spec.height);
+    c.jitter = rng.uniform();
+    return c;
+}
+
 // Pixel (x, y): the mean of the integrator's radiance over the pixel's samples; `aov`, when
 // given, collects the same samples' passes.
 Spectrum pixelValue(const Scene& scene, const Integrator& integrator, const PixelSamples& samples,
                     TraceState& state, RenderStats& stats, AovAccumulator* aov = nullptr) {
-    const SceneSpec& spec = scene.spec();
     if (aov) aov->beginPixel();
     return samples.mean([&](const Vec2& j, Rng& rng) {
-        const Ray ray = scene.camera().generateRay((samples.x() + j.x) / spec.width,
-                                                   (samples.y() + j.y) / spec.height);
-        const double jitter = rng.uniform();
-        if (aov) aov->beginSample(-ray.d);
-        return integrator.trace(ray, jitter, rng, state, stats, aov);
+        const CameraSample c = cameraSample(scene, samples.x(), samples.y(), j, rng);
+        if (aov) aov->beginSample(-c.ray.d);
+        return integrator.trace(c.ray, c.jitter, rng, state, stats, aov);
     });
 }
 
 // A camera sample whose ray is made before any sample of its tile row is traced.
 struct PreparedSample {
-    Ray ray;
-    double jitter = 0.0;
+    CameraSample camera;
     Rng rng;
 };
 
@@ -47,7 +57,6 @@ template <class Store>
 void renderRow(const Scene& scene, const Integrator& integrator, const PixelSampling& sampling,
                const StrataGrid& strata, int y, int x0, int x1, TraceState& state,
                RenderStats& stats, std::vector<PreparedSample>& buffer, const Store& store) {
-    const SceneSpec& spec = scene.spec();
     const int spp = sampling.samplesPerPixel;
     buffer.resize(size_t(x1 - x0) * size_t(spp));
     PreparedSample* p = buffer.data();
@@ -55,15 +64,14 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
         const PixelSamples samples(sampling, strata, x, y);
         for (int s = 0; s < spp; ++s, ++p) {
             const Vec2 j = samples.start(s, p->rng);
-            p->ray = scene.camera().generateRay((x + j.x) / spec.width, (y + j.y) / spec.height);
-            p->jitter = p->rng.uniform();
+            p->camera = cameraSample(scene, x, y, j, p->rng);
         }
     }
     p = buffer.data();
     for (int x = x0; x < x1; ++x) {
         Spectrum sum;
         for (int s = 0; s < spp; ++s, ++p)
-            sum += integrator.trace(p->ray, p->jitter, p->rng, state, stats);
+            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats);
         store(x, PixelSamples(sampling, strata, x, y).meanOf(sum));
     }
 }
