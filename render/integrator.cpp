@@ -54,6 +54,11 @@ Integrator::Integrator(const Scene& scene) : scene_(scene) {
         surfaceTransmittance_.push_back(1.0 - so.spec->opacity);
         if (so.spec->opacity < 1.0) gatherSurfaceHits_ = true;
     }
+    bool anyCaps = false;
+    for (const SceneSurface& so : scene_.surfaceObjects()) anyCaps = anyCaps || so.caps;
+    firstHitsInPackets_ = scene_.surfaces() && scene_.surfaces()->packetsSupported() &&
+                          scene_.volumeObjects().empty() && !gatherSurfaceHits_ && !anyCaps &&
+                          !scene_.backdrop().enabled();
     resetCaches();
 }
 
@@ -218,7 +223,8 @@ TraceState Integrator::newState() const {
 }
 
 Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
-                           RenderStats& stats, EventSink* sink) const {
+                           RenderStats& stats, EventSink* sink,
+                           const std::optional<SurfaceHit>* firstHit) const {
     ++stats.rays;
     const SceneSpec& spec = scene_.spec();
     const Backdrop& backdrop = scene_.backdrop();
@@ -336,7 +342,14 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     int gatheredPos = 0;
     bool gatheredValid = false;
     const auto nextSurfaceHit = [&]() -> std::optional<SurfaceHit> {
-        if (!gatherSurfaceHits_) return surfaces->intersect(segment);
+        if (!gatherSurfaceHits_) {
+            if (firstHit) {  // found beforehand on this very segment (firstHitsInPackets)
+                const std::optional<SurfaceHit> h = *firstHit;
+                firstHit = nullptr;
+                return h;
+            }
+            return surfaces->intersect(segment);
+        }
         for (int guard = 0; guard < kMaxSurfaceHits; ++guard) {
             if (!gatheredValid) {
                 surfaces->collectHits(segment, surfaceTransmittance_, spec.terminationTransmittance,

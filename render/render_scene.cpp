@@ -3,6 +3,7 @@
 #include "core/memory.h"
 #include "core/pixel_loop.h"
 #include "core/rng.h"
+#include "surface/surface_scene.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 namespace lobe {
 
@@ -43,10 +45,12 @@ Spectrum pixelValue(const Scene& scene, const Integrator& integrator, const Pixe
     });
 }
 
-// A camera sample whose ray is made before any sample of its tile row is traced.
+// A camera sample whose ray is made before any sample of its tile row is traced, and, where the
+// integrator allows it (Integrator::firstHitsInPackets), its first surface hit.
 struct PreparedSample {
     CameraSample camera;
     Rng rng;
+    std::optional<SurfaceHit> firstHit;
 };
 
 // The pixels [x0, x1) of row y, each exactly as pixelValue makes it: first every sample's
@@ -67,11 +71,29 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
             p->camera = cameraSample(scene, x, y, j, p->rng);
         }
     }
+    // Then, for opaque surface-only scenes, the first hits of 8 camera rays at a time: Embree
+    // walks its tree once for the 8 neighbouring rays (SurfaceScene::intersect8, the same hits;
+    // T1's exact skull: docs/performance.md).
+    const bool packets = integrator.firstHitsInPackets();
+    if (packets) {
+        const double t0 = state.cost.enabled ? steadySeconds() : 0.0;
+        const int count = int(buffer.size());
+        for (int i = 0; i < count; i += 8) {
+            const int n = std::min(8, count - i);
+            const Ray* rays[8];
+            std::optional<SurfaceHit> hits[8];
+            for (int k = 0; k < n; ++k) rays[k] = &buffer[size_t(i + k)].camera.ray;
+            scene.surfaces()->intersect8(rays, n, hits);
+            for (int k = 0; k < n; ++k) buffer[size_t(i + k)].firstHit = hits[k];
+        }
+        if (state.cost.enabled) state.cost.surfaceSeconds += steadySeconds() - t0;
+    }
     p = buffer.data();
     for (int x = x0; x < x1; ++x) {
         Spectrum sum;
         for (int s = 0; s < spp; ++s, ++p)
-            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats);
+            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats, nullptr,
+                                    packets ? &p->firstHit : nullptr);
         store(x, PixelSamples(sampling, strata, x, y).meanOf(sum));
     }
 }
