@@ -330,6 +330,50 @@ TEST(HybridCompositing, RenderIsThreadCountInvariantAndFinite) {
     }
 }
 
+// Opaque surfaces only, no backdrop: the pixel loop finds the camera rays' first hits 8 at a time
+// (Integrator::firstHitsInPackets, SurfaceScene::intersect8) and hands them to trace(); every
+// pixel must equal renderPixel's, which traces its samples one at a time.
+TEST(HybridCompositing, OpaqueSurfacesFoundInPacketsGiveTheSamePixels) {
+    const SceneSpec spec =
+        sceneOf({plane(20.3, 1.0, 0.9, "[1, 0.5, 0.25]"), plane(10, 1.0, 1.0, "[0, 0, 1]")}, 0.25);
+    {
+        const RenderScene scene(spec, false);
+        EXPECT_TRUE(Integrator(scene.scene()).firstHitsInPackets());
+        const RenderScene withBackdrop(
+            sceneOf({plane(20.3, 1.0, 0.9, "[1, 0.5, 0.25]")}, 0.25, true), false);
+        EXPECT_FALSE(Integrator(withBackdrop.scene()).firstHitsInPackets());
+        const RenderScene translucent(sceneOf({plane(20.3, 0.5, 0.9, "[1, 0.5, 0.25]")}, 0.25),
+                                      false);
+        EXPECT_FALSE(Integrator(translucent.scene()).firstHitsInPackets());
+        const RenderScene withVolume(
+            sceneOf({plane(20.3, 1.0, 0.9, "[1, 0.5, 0.25]"), slab(0.05, 0.4, "[0.2, 1, 0.5]", 0)},
+                    0.25),
+            false);
+        EXPECT_FALSE(Integrator(withVolume.scene()).firstHitsInPackets());
+    }
+    // Seen from above (sceneOf's camera): the upper plane fills the image.
+    const RenderScene scene(spec, false);
+    RenderOptions one, two;
+    one.threads = 1;
+    two.threads = 2;
+    one.progress = two.progress = false;
+    RenderStats stats;
+    const Film image = scene.render(two, &stats);
+    const Film single = scene.render(one);
+    EXPECT_GT(stats.surfaceHits, 0);
+    size_t lit = 0;
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+            const Spectrum want = scene.renderPixel(x, y);
+            lit += want.maxValue() > 0 ? 1 : 0;
+            for (int k = 0; k < kBandCount; ++k) {
+                EXPECT_EQ(image.at(x, y)[k], want[k]) << x << " " << y;
+                EXPECT_EQ(single.at(x, y)[k], want[k]) << x << " " << y;
+            }
+        }
+    EXPECT_EQ(lit, size_t(image.width()) * size_t(image.height()));
+}
+
 // The same at a step below 0.075 voxel with the cubic B-spline, read through each ray's
 // polynomial per cell (GridReconstructor::bsplineOnRay): every march builds its own, so what a
 // thread rendered before cannot change a pixel.
