@@ -342,14 +342,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     int gatheredPos = 0;
     bool gatheredValid = false;
     const auto nextSurfaceHit = [&]() -> std::optional<SurfaceHit> {
-        if (!gatherSurfaceHits_) {
-            if (firstHit) {  // found beforehand on this very segment (firstHitsInPackets)
-                const std::optional<SurfaceHit> h = *firstHit;
-                firstHit = nullptr;
-                return h;
-            }
-            return surfaces->intersect(segment);
-        }
+        if (!gatherSurfaceHits_) return surfaces->intersect(segment);
         for (int guard = 0; guard < kMaxSurfaceHits; ++guard) {
             if (!gatheredValid) {
                 surfaces->collectHits(segment, surfaceTransmittance_, spec.terminationTransmittance,
@@ -368,7 +361,13 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     for (int hits = 0;; ++hits) {
         std::optional<SurfaceHit> hit;
         const double t0 = cost ? steadySeconds() : 0.0;
-        if (surfaces && hits < kMaxSurfaceHits) hit = nextSurfaceHit();
+        if (firstHit) {
+            // Found beforehand on this very segment (firstHitsInPackets: no caps, the ray whole).
+            hit = *firstHit;
+            firstHit = nullptr;
+        } else if (surfaces && hits < kMaxSurfaceHits) {
+            hit = nextSurfaceHit();
+        }
         if (nextCap < caps.size() && (!hit || caps[nextCap].t <= hit->t)) {
             // The cap comes first: it is the event, the surface hit is found again after it.
             const CapHit& c = caps[nextCap++];

@@ -45,12 +45,10 @@ Spectrum pixelValue(const Scene& scene, const Integrator& integrator, const Pixe
     });
 }
 
-// A camera sample whose ray is made before any sample of its tile row is traced, and, where the
-// integrator allows it (Integrator::firstHitsInPackets), its first surface hit.
+// A camera sample whose ray is made before any sample of its tile row is traced.
 struct PreparedSample {
     CameraSample camera;
     Rng rng;
-    std::optional<SurfaceHit> firstHit;
 };
 
 // The pixels [x0, x1) of row y, each exactly as pixelValue makes it: first every sample's
@@ -75,25 +73,28 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
     // walks its tree once for the 8 neighbouring rays (SurfaceScene::intersect8, the same hits;
     // T1's exact skull: docs/performance.md).
     const bool packets = integrator.firstHitsInPackets();
+    thread_local std::vector<std::optional<SurfaceHit>> firstHits;
     if (packets) {
         const double t0 = state.cost.enabled ? steadySeconds() : 0.0;
         const int count = int(buffer.size());
+        firstHits.resize(buffer.size());
         for (int i = 0; i < count; i += 8) {
             const int n = std::min(8, count - i);
             const Ray* rays[8];
-            std::optional<SurfaceHit> hits[8];
             for (int k = 0; k < n; ++k) rays[k] = &buffer[size_t(i + k)].camera.ray;
-            scene.surfaces()->intersect8(rays, n, hits);
-            for (int k = 0; k < n; ++k) buffer[size_t(i + k)].firstHit = hits[k];
+            scene.surfaces()->intersect8(rays, n, &firstHits[size_t(i)]);
         }
         if (state.cost.enabled) state.cost.surfaceSeconds += steadySeconds() - t0;
     }
     p = buffer.data();
+    const std::optional<SurfaceHit>* firstHit = packets ? firstHits.data() : nullptr;
     for (int x = x0; x < x1; ++x) {
         Spectrum sum;
-        for (int s = 0; s < spp; ++s, ++p)
+        for (int s = 0; s < spp; ++s, ++p) {
             sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats, nullptr,
-                                    packets ? &p->firstHit : nullptr);
+                                    firstHit);
+            if (firstHit) ++firstHit;
+        }
         store(x, PixelSamples(sampling, strata, x, y).meanOf(sum));
     }
 }
