@@ -1,14 +1,15 @@
 // SurfaceScene::intersect8 (8 rays traced together with rtcIntersect8, surface_scene.h) against
-// intersect() one ray at a time: the same hit — distance, object, primitive and normal, bit for
-// bit — on exact iso-surfaces (user geometry: each lane searched along its own double ray, its
-// nearest double root kept) and a meshed one (built-in geometry), for coherent packets (a row of
-// neighbouring rays, as the pixel loop makes them) and incoherent ones, full and partial packets,
-// rays with a tMin and a tMax; two roots within one float step of each other at t ≈ 540 (the
-// nearer must win in every lane); and clipped or masked scenes refused.
+// intersect() one ray at a time: the same hit (distance, object, primitive, position and normal,
+// bit for bit) from every kind of user geometry (exact and meshed shells, a level-set ball: each
+// lane searched along its own double ray and bounded by its own nearest double root), for
+// coherent packets (neighbouring rays from one eye, as the pixel loop makes them) and incoherent
+// ones, full and partial packets, rays with a tMin and a tMax; two roots within one float step of
+// each other at t ≈ 540 (the nearer must win in every lane); clipped or masked scenes refused.
 #include "core/clip.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "surface/iso_exact.h"
+#include "surface/iso_levelset.h"
 #include "surface/iso_mesh.h"
 #include "surface/surface_scene.h"
 #include "surface_test_grids.h"
@@ -75,6 +76,13 @@ TEST(Packets, EightRaysAtOnceGiveTheHitsOfOneAtATime) {
     SurfaceScene scene("threads=1");
     scene.add(std::make_shared<IsoExactSurface>(*a, 0.0, "a"));
     scene.add(std::make_shared<IsoMeshSurface>(*b, 0.0, "b"));
+    // A ball of radius 8 around kCentre + (25, 0, 30), rebuilt as a level set (the third user
+    // geometry).
+    const Vec3 ballCentre = kCentre + Vec3(25.0, 0.0, 30.0);
+    const int dims[3] = {24, 24, 24};
+    const auto ball = makeGrid(dims, kIdentity, ballCentre - Vec3(12.0), -4.0f,
+                               [&](const Vec3& x) { return 8.0 - (x - ballCentre).length(); });
+    scene.add(LevelSetSurface::fromDensity(*ball, 0.0, LevelSetOptions{}, "ball"));
     scene.commit();
     ASSERT_TRUE(scene.packetsSupported());
     Rng rng(31, 8);
@@ -85,7 +93,7 @@ TEST(Packets, EightRaysAtOnceGiveTheHitsOfOneAtATime) {
         const bool coherent = p % 3 != 0;
         // A row of neighbouring rays from one eye (as the pixel loop makes them), or rays from
         // anywhere outside the shells to anywhere near a centre.
-        const Vec3 centre = kCentre + Vec3(p % 2 ? 50.0 : 0.0, 0, 0);
+        const Vec3 centre = p % 4 == 3 ? ballCentre : kCentre + Vec3(p % 2 ? 50.0 : 0.0, 0, 0);
         const Vec3 eye = centre + Vec3(-40.0 + 10 * rng.uniform(), -45.0, 12.0 * rng.uniform());
         const Vec3 aim =
             centre + Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 30.0;
