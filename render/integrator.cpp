@@ -57,8 +57,7 @@ Integrator::Integrator(const Scene& scene) : scene_(scene) {
     bool anyCaps = false;
     for (const SceneSurface& so : scene_.surfaceObjects()) anyCaps = anyCaps || so.caps;
     firstHitsInPackets_ = scene_.surfaces() && scene_.surfaces()->packetsSupported() &&
-                          scene_.volumeObjects().empty() && !gatherSurfaceHits_ && !anyCaps &&
-                          !scene_.backdrop().enabled();
+                          scene_.volumeObjects().empty() && !gatherSurfaceHits_ && !anyCaps;
     resetCaches();
 }
 
@@ -222,6 +221,18 @@ TraceState Integrator::newState() const {
     return st;
 }
 
+double Integrator::backdropDistance(const Ray& ray) const {
+    const Backdrop& backdrop = scene_.backdrop();
+    const double t = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
+    return t > ray.tMax ? kInf : t;
+}
+
+Ray Integrator::firstSurfaceSegment(const Ray& ray) const {
+    Ray segment = ray;
+    segment.tMax = std::min(ray.tMax, backdropDistance(ray));
+    return segment;
+}
+
 Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
                            RenderStats& stats, EventSink* sink,
                            const std::optional<SurfaceHit>* firstHit) const {
@@ -247,8 +258,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         cost->volumeSeconds += steadySeconds() - tBegin;  // clipping, lattice set-up
     // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not
     // seen.
-    double tBackdrop = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
-    if (tBackdrop > ray.tMax) tBackdrop = kInf;
+    const double tBackdrop = backdropDistance(ray);
     const Vec3 toViewer = -ray.d;
 
     // Composites every volume sample with t < tEnd in depth order; false once opaque.
@@ -362,7 +372,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         std::optional<SurfaceHit> hit;
         const double t0 = cost ? steadySeconds() : 0.0;
         if (firstHit) {
-            // Found beforehand on this very segment (firstHitsInPackets: no caps, the ray whole).
+            // Found beforehand on this very segment (firstHitsInPackets: no caps;
+            // firstSurfaceSegment).
             hit = *firstHit;
             firstHit = nullptr;
         } else if (surfaces && hits < kMaxSurfaceHits) {

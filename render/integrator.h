@@ -121,16 +121,19 @@ public:
     // the shading roulette (SceneSpec::shadingRoulette).
     // `sink`, when given, is told of every composited event (ShadingEvent).
     // `firstHit`, when given, is the ray's first surface hit found beforehand
-    // (SurfaceScene::intersect8 on the ray; only where firstHitsInPackets()): trace uses it in
-    // place of its own first search, the same hit.
+    // (SurfaceScene::intersect8 on firstSurfaceSegment(ray); only where firstHitsInPackets()):
+    // trace uses it in place of its own first search, the same hit.
     Spectrum trace(const Ray& ray, double jitter, Rng& rng, TraceState& state, RenderStats& stats,
                    EventSink* sink = nullptr,
                    const std::optional<SurfaceHit>* firstHit = nullptr) const;
-    // Whether a camera ray's first surface hit is all trace() searches the surfaces for, on the
-    // ray as it is, so that the pixel loop may find it for 8 rays at once
-    // (render_scene.cpp, renderRow): surfaces all opaque, no volumes, caps, backdrop, clips or
-    // masks (T1's exact skull: docs/performance.md).
+    // Whether a camera ray's first surface hit is all trace() searches the surfaces for, on
+    // firstSurfaceSegment(ray), so that the pixel loop may find it for 8 rays at once
+    // (render_scene.cpp, renderRow): surfaces all opaque, no volumes, caps, clips or masks (T1's
+    // exact skull: docs/performance.md).
     bool firstHitsInPackets() const { return firstHitsInPackets_; }
+    // The part of `ray` trace() first searches the surfaces on: up to the backdrop, if the ray
+    // meets it before its end.
+    Ray firstSurfaceSegment(const Ray& ray) const;
 
     // Transmittance from `from` to `light` through the casting objects (header, "Shadows"),
     // the shadow ray starting at distance tMin; `jitter` ∈ [0, 1) places the volumes' lattices.
@@ -142,6 +145,8 @@ public:
     const ShadowCache* shadowCache() const { return cache_.get(); }
 
 private:
+    // Distance to the backdrop along `ray`; ∞ when there is none or it lies beyond ray.tMax.
+    double backdropDistance(const Ray& ray) const;
     // Fills state.shadow for a point (exact, or from the cache for volume samples); null when
     // the scene has no shadows.
     // `normal` is a surface hit's (geometric) normal, null for a volume sample.

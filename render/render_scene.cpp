@@ -80,8 +80,12 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
         firstHits.resize(buffer.size());
         for (int i = 0; i < count; i += 8) {
             const int n = std::min(8, count - i);
+            Ray segments[8];
             const Ray* rays[8];
-            for (int k = 0; k < n; ++k) rays[k] = &buffer[size_t(i + k)].camera.ray;
+            for (int k = 0; k < n; ++k) {
+                segments[k] = integrator.firstSurfaceSegment(buffer[size_t(i + k)].camera.ray);
+                rays[k] = &segments[k];
+            }
             scene.surfaces()->intersect8(rays, n, &firstHits[size_t(i)]);
         }
         if (state.cost.enabled) state.cost.surfaceSeconds += steadySeconds() - t0;
