@@ -78,12 +78,18 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
         const double t0 = state.cost.enabled ? steadySeconds() : 0.0;
         const int count = int(buffer.size());
         firstHits.resize(buffer.size());
+        const bool cutAtBackdrop = scene.backdrop().enabled();
         for (int i = 0; i < count; i += 8) {
             const int n = std::min(8, count - i);
             Ray segments[8];
             const Ray* rays[8];
             for (int k = 0; k < n; ++k) {
-                segments[k] = integrator.firstSurfaceSegment(buffer[size_t(i + k)].camera.ray);
+                const Ray& ray = buffer[size_t(i + k)].camera.ray;
+                if (!cutAtBackdrop) {  // then the segment is the ray itself
+                    rays[k] = &ray;
+                    continue;
+                }
+                segments[k] = integrator.firstSurfaceSegment(ray);
                 rays[k] = &segments[k];
             }
             scene.surfaces()->intersect8(rays, n, &firstHits[size_t(i)]);
