@@ -170,14 +170,20 @@ public:
     // cell [i, i+1) × [j, j+1) × [k, k+1) (index space) its chessboard distance in cells to the
     // nearest cell that may hold a visible sample, capped at kCellDistanceCap; 0 for such a
     // cell. Cells outside the table: −1.
-    bool hasCellDistances() const { return !cellDistance_.empty(); }
-    int cellDistance(int i, int j, int k) const {
+    bool hasCellDistances() const { return !octantDistance_[0].empty(); }
+    int cellDistance(int i, int j, int k) const;
+    static constexpr int kCellDistanceCap = 16;
+    // The octant tables the marcher reads (header, "Cell distances"): for the octant of
+    // directions with signs s = (±1, ±1, ±1) (octant bit a set when s_a = −1), the side m of the
+    // largest cube of transparent cells {c + (s_x o_x, s_y o_y, s_z o_z) : 0 ≤ o_a < m}, capped at
+    // kOctantDistanceCap; 0 for a visible cell, −1 outside the table.
+    int octantDistance(int octant, int i, int j, int k) const {
         const int q[3] = {i - brickLo_[0], j - brickLo_[1], k - brickLo_[2]};
         for (int a = 0; a < 3; ++a)
             if (q[a] < 0 || q[a] >= cellCount_[a]) return -1;
-        return cellDistance_[cellSlot(q[0], q[1], q[2])];
+        return octantDistance_[size_t(octant)][cellSlot(q[0], q[1], q[2])];
     }
-    static constexpr int kCellDistanceCap = 16;
+    static constexpr int kOctantDistanceCap = 254;
     // Whether the brick and cell tables call the cell [i, i+1)³ … transparent (a cell of a
     // transparent brick, or one whose bit is set); false outside the tables.
     bool cellTransparent(int i, int j, int k) const;
@@ -211,7 +217,7 @@ private:
     // kCellDistanceCap (header, "Cell distances"). Empty without the dense copy (very large
     // grids), with pre-integration or without skipping: the marcher then tests bricks and cells.
     int cellCount_[3] = {0, 0, 0};
-    std::vector<unsigned char> cellDistance_;
+    std::array<std::vector<unsigned char>, 8> octantDistance_;
     void computeCellDistances();
     // Where cell (x, y, z) of the table (from brickLo_) is stored: brick by brick, B³ cells each.
     size_t cellSlot(int x, int y, int z) const {
@@ -282,6 +288,8 @@ private:
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
     double visibleCellEnd_ = -std::numeric_limits<double>::infinity();
+    // The octant table of this ray's direction (null without the tables), and its signs.
+    const unsigned char* octantTable_ = nullptr;
 
     const DvrVolume* vol_;
     GridReconstructor recon_;
