@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace lobe {
 
@@ -339,10 +340,11 @@ void DvrVolume::computeCellDistances() {
                 }
             }
     });
-    for (auto& t : octantDistance_) t.resize(size_t(nx) * ny * nz);
     tbb::parallel_for(0, 8, [&](int octant) {
         const int sx = octant & 1 ? -1 : 1, sy = octant & 2 ? -1 : 1, sz = octant & 4 ? -1 : 1;
         std::vector<unsigned char> d(init);
+        // Default-initialised (each task its own, in parallel): the copy below writes every cell.
+        octantDistance_[size_t(octant)].reset(new unsigned char[size_t(nx) * ny * nz]);
         std::vector<unsigned char> rowA(static_cast<size_t>(px)), rowB(rowA);
         const std::ptrdiff_t dy = sy * std::ptrdiff_t(row), dz = sz * std::ptrdiff_t(slab);
         for (int zi = 0; zi < nz; ++zi) {
@@ -357,7 +359,7 @@ void DvrVolume::computeCellDistances() {
         }
         // Stored brick by brick (the B³ cells of a brick together, x fastest: one 64-byte cache
         // line at B = 4), so the rays of a tile that look up nearby cells share lines.
-        std::vector<unsigned char>& table = octantDistance_[size_t(octant)];
+        unsigned char* table = octantDistance_[size_t(octant)].get();
         for (size_t brick = 0, n = size_t(brickCount_[0]) * brickCount_[1] * brickCount_[2];
              brick < n; ++brick) {
             const int bx = int(brick % size_t(brickCount_[0]));
@@ -365,10 +367,15 @@ void DvrVolume::computeCellDistances() {
             const int bz = int(brick / (size_t(brickCount_[0]) * brickCount_[1]));
             unsigned char* out = &table[brick << (3 * shift)];
             for (int cz = 0; cz < b; ++cz)
-                for (int cy = 0; cy < b; ++cy, out += b)
-                    std::copy_n(&d[size_t(bz * b + cz + 1) * slab + size_t(by * b + cy + 1) * row +
-                                   size_t(bx * b + 1)],
-                                b, out);
+                for (int cy = 0; cy < b; ++cy, out += b) {
+                    const unsigned char* in =
+                        &d[size_t(bz * b + cz + 1) * slab + size_t(by * b + cy + 1) * row +
+                           size_t(bx * b + 1)];
+                    if (b == 4)
+                        std::memcpy(out, in, 4);  // one move, not a call
+                    else
+                        std::copy_n(in, b, out);
+                }
         }
     });
 }
@@ -467,7 +474,7 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     if (vol_->hasCellDistances()) {
         const int octant =
             (dIdx_[0] < 0.0 ? 1 : 0) | (dIdx_[1] < 0.0 ? 2 : 0) | (dIdx_[2] < 0.0 ? 4 : 0);
-        octantTable_ = vol_->octantDistance_[size_t(octant)].data();
+        octantTable_ = vol_->octantDistance_[size_t(octant)].get();
     }
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;

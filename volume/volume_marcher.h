@@ -170,7 +170,7 @@ public:
     // cell [i, i+1) × [j, j+1) × [k, k+1) (index space) its chessboard distance in cells to the
     // nearest cell that may hold a visible sample, capped at kCellDistanceCap; 0 for such a
     // cell. Cells outside the table: −1.
-    bool hasCellDistances() const { return !octantDistance_[0].empty(); }
+    bool hasCellDistances() const { return octantDistance_[0] != nullptr; }
     int cellDistance(int i, int j, int k) const;
     static constexpr int kCellDistanceCap = 16;
     // The octant tables the marcher reads (header, "Cell distances"): for the octant of
@@ -217,7 +217,8 @@ private:
     // kCellDistanceCap (header, "Cell distances"). Empty without the dense copy (very large
     // grids), with pre-integration or without skipping: the marcher then tests bricks and cells.
     int cellCount_[3] = {0, 0, 0};
-    std::array<std::vector<unsigned char>, 8> octantDistance_;
+    // Not value-initialised: every cell is written by computeCellDistances.
+    std::array<std::unique_ptr<unsigned char[]>, 8> octantDistance_;
     void computeCellDistances();
     // Where cell (x, y, z) of the table (from brickLo_) is stored: brick by brick, B³ cells each.
     size_t cellSlot(int x, int y, int z) const {
