@@ -249,7 +249,12 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                         }
             }
     });
-    if (dense_ && settings_.emptySpaceSkipping && !settings_.preIntegrated) computeCellDistances();
+    // The octant tables (8 bytes a cell) within the dense copy's budget too, so both together
+    // take at most a quarter of the machine's memory; beyond, the brick and cell tests.
+    const double tableBytes =
+        8.0 * double(brickCount_[0]) * brickCount_[1] * brickCount_[2] * double(b) * b * b;
+    if (dense_ && settings_.emptySpaceSkipping && !settings_.preIntegrated && tableBytes <= budget)
+        computeCellDistances();
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
     tfArrays_ = std::make_shared<const TfArrays>(tf_);

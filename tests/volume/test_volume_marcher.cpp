@@ -5,6 +5,7 @@
 // lattice; the gradient threshold. Samples are composited with the renderer's compositor
 // (render/compositor.h); the integrator's depth merge of several volumes is tested through the
 // integrator itself (tests/render/test_hybrid.cpp).
+#include "core/memory.h"
 #include "core/rng.h"
 #include "dvr_test_grids.h"
 #include "render/compositor.h"
@@ -593,6 +594,41 @@ TEST(VolumeMarcher, CellDistancesOnlyWhereTheyApply) {
     EXPECT_FALSE(DvrVolume(randomBalls(3, 2), stepTf(0.3), pre).hasCellDistances());
     EXPECT_FALSE(DvrVolume(randomBalls(3, 2), stepTf(0.3), noSkip).hasCellDistances());
     EXPECT_TRUE(DvrVolume(randomBalls(3, 2), stepTf(0.3), DvrSettings()).hasCellDistances());
+}
+
+TEST(VolumeMarcher, OctantTablesOnlyWithinTheMemoryBudget) {
+    // The 8 octant tables (8 bytes a cell) are built only within the dense copy's budget (an
+    // eighth of the memory): with a budget that holds the dense copy (4 bytes a voxel) but not
+    // the tables, the marcher falls back to the brick and cell tests — the same samples.
+    std::vector<Vec3> centres;
+    const openvdb::FloatGrid::Ptr grid = randomBalls(5, 4, &centres);
+    const TransferFunction tf = TransferFunction::cortex(0.4, 0.3);
+    DvrSettings on, off;
+    off.emptySpaceSkipping = false;
+    on.stepVoxels = off.stepVoxels = 0.5;
+    const DvrVolume full(grid, tf, on);
+    ASSERT_TRUE(full.hasCellDistances());
+    const MemoryBudget measured = memoryBudget();
+    setMemoryBudget({8.0 * 0.9e6, "the test's budget"});  // an eighth: 0.9 MB
+    const DvrVolume small(grid, tf, on), reference(grid, tf, off);
+    setMemoryBudget({0.0, ""});
+    ASSERT_GT(measured.bytes, 0.0);
+    ASSERT_NE(small.dense(), nullptr);       // ~0.8 MB: the dense copy fits
+    EXPECT_FALSE(small.hasCellDistances());  // 8 × 56³ bytes do not
+    long long skipped = 0, contributing = 0;
+    for (int n = 0; n < 40; ++n) {
+        Rng rng(3, n);
+        const Vec3 dir =
+            normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+        Ray ray;
+        ray.o = centres[size_t(n) % centres.size()] - 90.0 * dir;
+        ray.d = dir;
+        VolumeRaySampler a(small), b(reference);
+        contributing += expectSameSamples(a, b, ray, rng.uniform());
+        skipped += a.samplesSkipped();
+    }
+    EXPECT_GT(contributing, 20);
+    EXPECT_GT(skipped, 1000);
 }
 
 TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
