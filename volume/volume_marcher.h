@@ -68,7 +68,9 @@
 // transparent as for the bricks. The cells' transparency is the two levels' (a cell of a
 // transparent brick, or a cell whose bit is set), so the samples that contribute are the same
 // as with the two levels, bit for bit. Memory: 8 bytes per cell (the CThead's 7.8 M cells: 63
-// MB, twice its dense copy), built in parallel at load (~0.1 s for the CThead).
+// MB, twice its dense copy), built in parallel at load (~0.1 s for the CThead); only when that
+// fits the dense copy's budget (DenseField::kMaxBytes and an eighth of the memory), else the
+// marcher keeps the brick and cell tests.
 //
 // Pre-integration (DvrSettings::preIntegrated; volume/pre_integration.h). Each sample then
 // stands for the segment from the previous lattice point to it: its opacity and colour are the
