@@ -187,6 +187,47 @@ int PacketPolynomial(const RayLattice& r, long long k0, int n, const double poly
     return m;
 }
 
+// GridReconstructor::ensureRayCell's products: the same sums in the same order as its scalar loops
+// (each element accumulated over the same index sequence, no contraction), so the same bits.
+void RayCellPolynomial(const float* f, const double* wx, const double* wy, const double* wz,
+                       double* poly) {
+    const D d;
+    const hn::Rebind<float, D> df;
+    const int N = int(hn::Lanes(d));
+    // Along x: px[k][row] = Σ_a f[a][row] · wx[a][k], a ascending (16 rows, whole vectors).
+    alignas(64) double px[4][16];
+    for (int r = 0; r < 16; r += N) {
+        V acc[4] = {hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+        for (int a = 0; a < 4; ++a) {
+            const V fa = hn::PromoteTo(d, hn::LoadU(df, f + 16 * a + r));
+            for (int k = 0; k < 4; ++k)
+                acc[k] = hn::Add(acc[k], hn::Mul(fa, hn::Set(d, wx[4 * a + k])));
+        }
+        for (int k = 0; k < 4; ++k) hn::Store(acc[k], d, px[k] + r);
+    }
+    // Along y: py[k + l][c] = Σ_b Σ_k px[k][4b + c] · wy[b][l], b then k ascending, vectors over c.
+    const hn::CappedTag<double, 4> d4;
+    using V4 = hn::Vec<decltype(d4)>;
+    const int N4 = int(hn::Lanes(d4));
+    alignas(64) double py[7][4];
+    for (int c0 = 0; c0 < 4; c0 += N4) {
+        V4 acc[7];
+        for (int m = 0; m < 7; ++m) acc[m] = hn::Zero(d4);
+        for (int b = 0; b < 4; ++b)
+            for (int k = 0; k < 4; ++k) {
+                const V4 x = hn::LoadU(d4, px[k] + 4 * b + c0);
+                for (int l = 0; l < 4; ++l)
+                    acc[k + l] = hn::Add(acc[k + l], hn::Mul(x, hn::Set(d4, wy[4 * b + l])));
+            }
+        for (int m = 0; m < 7; ++m) hn::StoreU(acc[m], d4, py[m] + c0);
+    }
+    // Along z: the nonic, in ensureRayCell's order (k, c, l).
+    for (int m = 0; m < 10; ++m) poly[m] = 0.0;
+    for (int k = 0; k < 7; ++k)
+        for (int c = 0; c < 4; ++c)
+            for (int l = 0; l < 4; ++l) poly[k + l] += py[k][c] * wz[4 * c + l];
+}
+
 const char* Target() { return hwy::TargetName(HWY_TARGET); }
 
 }  // namespace HWY_NAMESPACE
@@ -198,6 +239,7 @@ namespace lobe {
 
 HWY_EXPORT(PacketTrilinear);
 HWY_EXPORT(PacketPolynomial);
+HWY_EXPORT(RayCellPolynomial);
 HWY_EXPORT(Target);
 
 TfArrays::TfArrays(const TransferFunction& tf) {
@@ -220,6 +262,11 @@ int latticePacketPolynomial(const RayLattice& ray, long long k0, int n, const do
                             double t0, const int cell[3], const TfArrays& tf, LatticePacket& out) {
     if (n <= 0 || n > LatticePacket::kMaxPoints) return 0;
     return HWY_DYNAMIC_DISPATCH(PacketPolynomial)(ray, k0, n, poly, t0, cell, tf, out);
+}
+
+void rayCellPolynomial(const float f[4][16], const double wx[4][4], const double wy[4][4],
+                       const double wz[4][4], double poly[10]) {
+    HWY_DYNAMIC_DISPATCH(RayCellPolynomial)(&f[0][0], &wx[0][0], &wy[0][0], &wz[0][0], poly);
 }
 
 const char* latticePacketTarget() { return HWY_DYNAMIC_DISPATCH(Target)(); }

@@ -63,6 +63,13 @@ int latticePacketTrilinear(const RayLattice& ray, long long k0, int n, const Den
 int latticePacketPolynomial(const RayLattice& ray, long long k0, int n, const double poly[10],
                             double t0, const int cell[3], const TfArrays& tf, LatticePacket& out);
 
+// The coefficients of GridReconstructor::bsplineOnRay's polynomial from a 4³ block f[a][4b + c]
+// and the Taylor coefficients W[a][k] of the weights along x, y, z (reconstruction.cpp,
+// ensureRayCell): poly[j] = Σ f[a][4b + c] wx[a][k] wy[b][l] wz[c][m] over k + l + m = j, summed
+// along x, then y, then z, in the scalar loops' order (so the same bits, with vectors).
+void rayCellPolynomial(const float f[4][16], const double wx[4][4], const double wy[4][4],
+                       const double wz[4][4], double poly[10]);
+
 // The Highway target the packet kernels run on ("AVX3", "AVX2", "SSE4", "EMU128", …).
 const char* latticePacketTarget();
 // Whether the environment forces the scalar path (LOBE_SIMD=off or 0).

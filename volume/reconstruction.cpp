@@ -1,6 +1,7 @@
 #include "volume/reconstruction.h"
 
 #include "core/error.h"
+#include "volume/dvr_simd.h"
 #include "volume/grid_world.h"
 
 #include <Imath/ImathMatrix.h>
@@ -312,24 +313,10 @@ void GridReconstructor::ensureRayCell(const Vec3& o, const Vec3& d, double t) {
         weights(p.y - fy, d.y, wy);
         weights(p.z - fz, d.z, wz);
         const Block& f = block(cell.x() - 1, cell.y() - 1, cell.z() - 1);
-        // Along x: 16 rows (y, z) of cubics; along y: 4 sextics; along z: the nonic. Coefficient
-        // index outermost, so that the inner loops run over contiguous rows (they vectorise).
-        double px[4][16] = {};
-        for (int a = 0; a < 4; ++a) {
-            double fa[16];
-            for (int row = 0; row < 16; ++row) fa[row] = f[a][row];
-            for (int k = 0; k < 4; ++k)
-                for (int row = 0; row < 16; ++row) px[k][row] += fa[row] * wx[a][k];
-        }
-        double py[7][4] = {};
-        for (int b = 0; b < 4; ++b)
-            for (int k = 0; k < 4; ++k)
-                for (int l = 0; l < 4; ++l)
-                    for (int c = 0; c < 4; ++c) py[k + l][c] += px[k][4 * b + c] * wy[b][l];
-        for (double& x : r.poly) x = 0.0;
-        for (int k = 0; k < 7; ++k)
-            for (int c = 0; c < 4; ++c)
-                for (int l = 0; l < 4; ++l) r.poly[k + l] += py[k][c] * wz[c][l];
+        // Along x: 16 rows (y, z) of cubics; along y: 4 sextics; along z: the nonic (~600
+        // products), with SIMD vectors over rows (volume/dvr_simd.h; the same bits as scalar
+        // loops, tests/volume/test_dvr_simd.cpp).
+        rayCellPolynomial(f, wx, wy, wz, r.poly);
         r.o = o;
         r.d = d;
         r.cell = cell;
