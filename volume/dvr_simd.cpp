@@ -222,10 +222,16 @@ void RayCellPolynomial(const float* f, const double* wx, const double* wy, const
         for (int m = 0; m < 7; ++m) hn::StoreU(acc[m], d4, py[m] + c0);
     }
     // Along z: the nonic, in ensureRayCell's order (k, c, l).
-    for (int m = 0; m < 10; ++m) poly[m] = 0.0;
+    // Scalar: vectors over the coefficient index would chain all 28 (k, c) steps; ten local
+    // accumulators (registers, not stores through `poly`) chain at most 16.
+    double acc[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+#pragma GCC unroll 7
     for (int k = 0; k < 7; ++k)
+#pragma GCC unroll 4
         for (int c = 0; c < 4; ++c)
-            for (int l = 0; l < 4; ++l) poly[k + l] += py[k][c] * wz[4 * c + l];
+#pragma GCC unroll 4
+            for (int l = 0; l < 4; ++l) acc[k + l] += py[k][c] * wz[4 * c + l];
+    for (int m = 0; m < 10; ++m) poly[m] = acc[m];
 }
 
 const char* Target() { return hwy::TargetName(HWY_TARGET); }
