@@ -234,6 +234,63 @@ void RayCellPolynomial(const float* f, const double* wx, const double* wy, const
     for (int m = 0; m < 10; ++m) poly[m] = acc[m];
 }
 
+// GridReconstructor::bspline / bsplineWithGradient's separable sums (reconstruction.cpp) with
+// vectors over the 16 rows (x) and the 4 columns (y): the same operations in the same order per
+// element, so the same bits. dw == nullptr: the value only.
+void BSplineBlock(const float* f, const double* w, const double* dw, double* out) {
+    const D d;
+    const hn::Rebind<float, D> df;
+    const int N = int(hn::Lanes(d));
+    const double *wx = w, *wy = w + 4, *wz = w + 8;
+    // Along x: vx[r] = Σ_a wx[a] f[a][r] (and dvx with the derivative weights), a ascending.
+    alignas(64) double vx[16], dvx[16];
+    for (int r = 0; r < 16; r += N) {
+        V acc = hn::Zero(d), dacc = hn::Zero(d);
+        for (int a = 0; a < 4; ++a) {
+            const V fa = hn::PromoteTo(d, hn::LoadU(df, f + 16 * a + r));
+            acc = hn::Add(acc, hn::Mul(hn::Set(d, wx[a]), fa));
+            if (dw) dacc = hn::Add(dacc, hn::Mul(hn::Set(d, dw[a]), fa));
+        }
+        hn::Store(acc, d, vx + r);
+        if (dw) hn::Store(dacc, d, dvx + r);
+    }
+    // Along y: vz[c] = Σ_b wy[b] vx[4b + c] (and the ∂x, ∂y partials), b ascending.
+    const hn::CappedTag<double, 4> d4;
+    using V4 = hn::Vec<decltype(d4)>;
+    const int N4 = int(hn::Lanes(d4));
+    alignas(32) double vz[4], gxz[4], gyz[4];
+    for (int c0 = 0; c0 < 4; c0 += N4) {
+        V4 v = hn::Zero(d4), gx = hn::Zero(d4), gy = hn::Zero(d4);
+        for (int b = 0; b < 4; ++b) {
+            const V4 row = hn::LoadU(d4, vx + 4 * b + c0);
+            v = hn::Add(v, hn::Mul(hn::Set(d4, wy[b]), row));
+            if (dw) {
+                gx = hn::Add(gx, hn::Mul(hn::Set(d4, wy[b]), hn::LoadU(d4, dvx + 4 * b + c0)));
+                gy = hn::Add(gy, hn::Mul(hn::Set(d4, dw[4 + b]), row));
+            }
+        }
+        hn::StoreU(v, d4, vz + c0);
+        if (dw) {
+            hn::StoreU(gx, d4, gxz + c0);
+            hn::StoreU(gy, d4, gyz + c0);
+        }
+    }
+    // Along z: scalar sums, c ascending.
+    double v = 0.0;
+    for (int c = 0; c < 4; ++c) v += wz[c] * vz[c];
+    out[0] = v;
+    if (!dw) return;
+    double gx = 0.0, gy = 0.0, gz = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        gx += wz[c] * gxz[c];
+        gy += wz[c] * gyz[c];
+        gz += dw[8 + c] * vz[c];
+    }
+    out[1] = gx;
+    out[2] = gy;
+    out[3] = gz;
+}
+
 const char* Target() { return hwy::TargetName(HWY_TARGET); }
 
 }  // namespace HWY_NAMESPACE
@@ -246,6 +303,7 @@ namespace lobe {
 HWY_EXPORT(PacketTrilinear);
 HWY_EXPORT(PacketPolynomial);
 HWY_EXPORT(RayCellPolynomial);
+HWY_EXPORT(BSplineBlock);
 HWY_EXPORT(Target);
 
 TfArrays::TfArrays(const TransferFunction& tf) {
@@ -273,6 +331,11 @@ int latticePacketPolynomial(const RayLattice& ray, long long k0, int n, const do
 void rayCellPolynomial(const float f[4][16], const double wx[4][4], const double wy[4][4],
                        const double wz[4][4], double poly[10]) {
     HWY_DYNAMIC_DISPATCH(RayCellPolynomial)(&f[0][0], &wx[0][0], &wy[0][0], &wz[0][0], poly);
+}
+
+void bsplineBlock(const float f[4][16], const double w[3][4], const double dw[3][4],
+                  double out[4]) {
+    HWY_DYNAMIC_DISPATCH(BSplineBlock)(&f[0][0], &w[0][0], dw ? &dw[0][0] : nullptr, out);
 }
 
 const char* latticePacketTarget() { return HWY_DYNAMIC_DISPATCH(Target)(); }
