@@ -187,6 +187,110 @@ int PacketPolynomial(const RayLattice& r, long long k0, int n, const double poly
     return m;
 }
 
+// GridReconstructor::ensureRayCell's products: the same sums in the same order as its scalar loops
+// (each element accumulated over the same index sequence, no contraction), so the same bits.
+void RayCellPolynomial(const float* f, const double* wx, const double* wy, const double* wz,
+                       double* poly) {
+    const D d;
+    const hn::Rebind<float, D> df;
+    const int N = int(hn::Lanes(d));
+    // Along x: px[k][row] = Σ_a f[a][row] · wx[a][k], a ascending (16 rows, whole vectors).
+    alignas(64) double px[4][16];
+    for (int r = 0; r < 16; r += N) {
+        V acc[4] = {hn::Zero(d), hn::Zero(d), hn::Zero(d), hn::Zero(d)};
+        for (int a = 0; a < 4; ++a) {
+            const V fa = hn::PromoteTo(d, hn::LoadU(df, f + 16 * a + r));
+            for (int k = 0; k < 4; ++k)
+                acc[k] = hn::Add(acc[k], hn::Mul(fa, hn::Set(d, wx[4 * a + k])));
+        }
+        for (int k = 0; k < 4; ++k) hn::Store(acc[k], d, px[k] + r);
+    }
+    // Along y: py[k + l][c] = Σ_b Σ_k px[k][4b + c] · wy[b][l], b then k ascending, vectors over c.
+    const hn::CappedTag<double, 4> d4;
+    using V4 = hn::Vec<decltype(d4)>;
+    const int N4 = int(hn::Lanes(d4));
+    alignas(64) double py[7][4];
+    for (int c0 = 0; c0 < 4; c0 += N4) {
+        V4 acc[7];
+        for (int m = 0; m < 7; ++m) acc[m] = hn::Zero(d4);
+        for (int b = 0; b < 4; ++b)
+            for (int k = 0; k < 4; ++k) {
+                const V4 x = hn::LoadU(d4, px[k] + 4 * b + c0);
+                for (int l = 0; l < 4; ++l)
+                    acc[k + l] = hn::Add(acc[k + l], hn::Mul(x, hn::Set(d4, wy[4 * b + l])));
+            }
+        for (int m = 0; m < 7; ++m) hn::StoreU(acc[m], d4, py[m] + c0);
+    }
+    // Along z: the nonic, in ensureRayCell's order (k, c, l).
+    // Scalar: vectors over the coefficient index would chain all 28 (k, c) steps; ten local
+    // accumulators (registers, not stores through `poly`) chain at most 16.
+    double acc[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+#pragma GCC unroll 7
+    for (int k = 0; k < 7; ++k)
+#pragma GCC unroll 4
+        for (int c = 0; c < 4; ++c)
+#pragma GCC unroll 4
+            for (int l = 0; l < 4; ++l) acc[k + l] += py[k][c] * wz[4 * c + l];
+    for (int m = 0; m < 10; ++m) poly[m] = acc[m];
+}
+
+// GridReconstructor::bspline / bsplineWithGradient's separable sums (reconstruction.cpp) with
+// vectors over the 16 rows (x) and the 4 columns (y): the same operations in the same order per
+// element, so the same bits. dw == nullptr: the value only.
+void BSplineBlock(const float* f, const double* w, const double* dw, double* out) {
+    const D d;
+    const hn::Rebind<float, D> df;
+    const int N = int(hn::Lanes(d));
+    const double *wx = w, *wy = w + 4, *wz = w + 8;
+    // Along x: vx[r] = Σ_a wx[a] f[a][r] (and dvx with the derivative weights), a ascending.
+    alignas(64) double vx[16], dvx[16];
+    for (int r = 0; r < 16; r += N) {
+        V acc = hn::Zero(d), dacc = hn::Zero(d);
+        for (int a = 0; a < 4; ++a) {
+            const V fa = hn::PromoteTo(d, hn::LoadU(df, f + 16 * a + r));
+            acc = hn::Add(acc, hn::Mul(hn::Set(d, wx[a]), fa));
+            if (dw) dacc = hn::Add(dacc, hn::Mul(hn::Set(d, dw[a]), fa));
+        }
+        hn::Store(acc, d, vx + r);
+        if (dw) hn::Store(dacc, d, dvx + r);
+    }
+    // Along y: vz[c] = Σ_b wy[b] vx[4b + c] (and the ∂x, ∂y partials), b ascending.
+    const hn::CappedTag<double, 4> d4;
+    using V4 = hn::Vec<decltype(d4)>;
+    const int N4 = int(hn::Lanes(d4));
+    alignas(32) double vz[4], gxz[4], gyz[4];
+    for (int c0 = 0; c0 < 4; c0 += N4) {
+        V4 v = hn::Zero(d4), gx = hn::Zero(d4), gy = hn::Zero(d4);
+        for (int b = 0; b < 4; ++b) {
+            const V4 row = hn::LoadU(d4, vx + 4 * b + c0);
+            v = hn::Add(v, hn::Mul(hn::Set(d4, wy[b]), row));
+            if (dw) {
+                gx = hn::Add(gx, hn::Mul(hn::Set(d4, wy[b]), hn::LoadU(d4, dvx + 4 * b + c0)));
+                gy = hn::Add(gy, hn::Mul(hn::Set(d4, dw[4 + b]), row));
+            }
+        }
+        hn::StoreU(v, d4, vz + c0);
+        if (dw) {
+            hn::StoreU(gx, d4, gxz + c0);
+            hn::StoreU(gy, d4, gyz + c0);
+        }
+    }
+    // Along z: scalar sums, c ascending.
+    double v = 0.0;
+    for (int c = 0; c < 4; ++c) v += wz[c] * vz[c];
+    out[0] = v;
+    if (!dw) return;
+    double gx = 0.0, gy = 0.0, gz = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        gx += wz[c] * gxz[c];
+        gy += wz[c] * gyz[c];
+        gz += dw[8 + c] * vz[c];
+    }
+    out[1] = gx;
+    out[2] = gy;
+    out[3] = gz;
+}
+
 const char* Target() { return hwy::TargetName(HWY_TARGET); }
 
 }  // namespace HWY_NAMESPACE
@@ -198,6 +302,8 @@ namespace lobe {
 
 HWY_EXPORT(PacketTrilinear);
 HWY_EXPORT(PacketPolynomial);
+HWY_EXPORT(RayCellPolynomial);
+HWY_EXPORT(BSplineBlock);
 HWY_EXPORT(Target);
 
 TfArrays::TfArrays(const TransferFunction& tf) {
@@ -220,6 +326,16 @@ int latticePacketPolynomial(const RayLattice& ray, long long k0, int n, const do
                             double t0, const int cell[3], const TfArrays& tf, LatticePacket& out) {
     if (n <= 0 || n > LatticePacket::kMaxPoints) return 0;
     return HWY_DYNAMIC_DISPATCH(PacketPolynomial)(ray, k0, n, poly, t0, cell, tf, out);
+}
+
+void rayCellPolynomial(const float f[4][16], const double wx[4][4], const double wy[4][4],
+                       const double wz[4][4], double poly[10]) {
+    HWY_DYNAMIC_DISPATCH(RayCellPolynomial)(&f[0][0], &wx[0][0], &wy[0][0], &wz[0][0], poly);
+}
+
+void bsplineBlock(const float f[4][16], const double w[3][4], const double dw[3][4],
+                  double out[4]) {
+    HWY_DYNAMIC_DISPATCH(BSplineBlock)(&f[0][0], &w[0][0], dw ? &dw[0][0] : nullptr, out);
 }
 
 const char* latticePacketTarget() { return HWY_DYNAMIC_DISPATCH(Target)(); }

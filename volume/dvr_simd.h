@@ -63,6 +63,19 @@ int latticePacketTrilinear(const RayLattice& ray, long long k0, int n, const Den
 int latticePacketPolynomial(const RayLattice& ray, long long k0, int n, const double poly[10],
                             double t0, const int cell[3], const TfArrays& tf, LatticePacket& out);
 
+// The coefficients of GridReconstructor::bsplineOnRay's polynomial from a 4³ block f[a][4b + c]
+// and the Taylor coefficients W[a][k] of the weights along x, y, z (reconstruction.cpp,
+// ensureRayCell): poly[j] = Σ f[a][4b + c] wx[a][k] wy[b][l] wz[c][m] over k + l + m = j, summed
+// along x, then y, then z, in the scalar loops' order (so the same bits, with vectors).
+void rayCellPolynomial(const float f[4][16], const double wx[4][4], const double wy[4][4],
+                       const double wz[4][4], double poly[10]);
+
+// The cubic B-spline over a 4³ block f[a][4b + c] with weights w[axis][·] (GridReconstructor::
+// bspline): out[0] = Σ w[0][a] w[1][b] w[2][c] f[a][4b + c], summed along x, then y, then z in
+// its loops' order (the same bits). With derivative weights dw (not null), out[1..3] = the
+// index-space gradient as bsplineWithGradient sums it.
+void bsplineBlock(const float f[4][16], const double w[3][4], const double dw[3][4], double out[4]);
+
 // The Highway target the packet kernels run on ("AVX3", "AVX2", "SSE4", "EMU128", …).
 const char* latticePacketTarget();
 // Whether the environment forces the scalar path (LOBE_SIMD=off or 0).

@@ -1,6 +1,7 @@
 #include "volume/reconstruction.h"
 
 #include "core/error.h"
+#include "volume/dvr_simd.h"
 #include "volume/grid_world.h"
 
 #include <Imath/ImathMatrix.h>
@@ -205,41 +206,20 @@ void GridReconstructor::gather4(int i, int j, int k, Block& f) {
 
 double GridReconstructor::bsplineWithGradient(const Vec3& p, Vec3& gradient) {
     const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
-    double wx[4], wy[4], wz[4], dx[4], dy[4], dz[4];
-    bsplineWeights(p.x - fx, wx, dx);
-    bsplineWeights(p.y - fy, wy, dy);
-    bsplineWeights(p.z - fz, wz, dz);
+    double w[3][4], dw[3][4];
+    bsplineWeights(p.x - fx, w[0], dw[0]);
+    bsplineWeights(p.y - fy, w[1], dw[1]);
+    bsplineWeights(p.z - fz, w[2], dw[2]);
     const Block& f = block(int(fx) - 1, int(fy) - 1, int(fz) - 1);
     // Separable sums: reduce along x (16 rows at once, value and x-derivative weights), then
     // along y (value, ∂x and ∂y partials), then along z — 16 × 2 × 4 + 4 × 3 × 4 + 4 × 4
     // products instead of 64 × 4 weight products. Each quantity is summed in the same order as
-    // a plain triple loop over (c, b, a), so the result does not depend on the vectorisation.
-    double vx[16], dvx[16];
-    for (int r = 0; r < 16; ++r) {
-        vx[r] = 0.0;
-        dvx[r] = 0.0;
-    }
-    for (int a = 0; a < 4; ++a)
-        for (int r = 0; r < 16; ++r) {
-            vx[r] += wx[a] * double(f[a][r]);
-            dvx[r] += dx[a] * double(f[a][r]);
-        }
-    double vz[4] = {0, 0, 0, 0}, gxz[4] = {0, 0, 0, 0}, gyz[4] = {0, 0, 0, 0};
-    for (int b = 0; b < 4; ++b)
-        for (int c = 0; c < 4; ++c) {
-            vz[c] += wy[b] * vx[4 * b + c];
-            gxz[c] += wy[b] * dvx[4 * b + c];
-            gyz[c] += dy[b] * vx[4 * b + c];
-        }
-    double v = 0.0, gx = 0.0, gy = 0.0, gz = 0.0;
-    for (int c = 0; c < 4; ++c) {
-        v += wz[c] * vz[c];
-        gx += wz[c] * gxz[c];
-        gy += wz[c] * gyz[c];
-        gz += dz[c] * vz[c];
-    }
-    gradient = Vec3(gx, gy, gz);
-    return v;
+    // a plain triple loop over (c, b, a), with SIMD vectors over rows and columns (bsplineBlock,
+    // volume/dvr_simd.h), so the result does not depend on the vectorisation.
+    double out[4];
+    bsplineBlock(f, w, dw, out);
+    gradient = Vec3(out[1], out[2], out[3]);
+    return out[0];
 }
 
 double GridReconstructor::bspline(const Vec3& p) {
@@ -247,21 +227,14 @@ double GridReconstructor::bspline(const Vec3& p) {
     // (so the two return the same bits); the marcher asks for the value at every sample and the
     // gradient only where the transfer function is not transparent.
     const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
-    double wx[4], wy[4], wz[4];
-    bsplineWeights(p.x - fx, wx);
-    bsplineWeights(p.y - fy, wy);
-    bsplineWeights(p.z - fz, wz);
+    double w[3][4];
+    bsplineWeights(p.x - fx, w[0]);
+    bsplineWeights(p.y - fy, w[1]);
+    bsplineWeights(p.z - fz, w[2]);
     const Block& f = block(int(fx) - 1, int(fy) - 1, int(fz) - 1);
-    double vx[16];
-    for (int r = 0; r < 16; ++r) vx[r] = 0.0;
-    for (int a = 0; a < 4; ++a)
-        for (int r = 0; r < 16; ++r) vx[r] += wx[a] * double(f[a][r]);
-    double vz[4] = {0, 0, 0, 0};
-    for (int b = 0; b < 4; ++b)
-        for (int c = 0; c < 4; ++c) vz[c] += wy[b] * vx[4 * b + c];
-    double v = 0.0;
-    for (int c = 0; c < 4; ++c) v += wz[c] * vz[c];
-    return v;
+    double out[4];
+    bsplineBlock(f, w, nullptr, out);
+    return out[0];
 }
 
 const double* GridReconstructor::rayPolynomial(const Vec3& o, const Vec3& d, double t, double& t0,
@@ -312,24 +285,10 @@ void GridReconstructor::ensureRayCell(const Vec3& o, const Vec3& d, double t) {
         weights(p.y - fy, d.y, wy);
         weights(p.z - fz, d.z, wz);
         const Block& f = block(cell.x() - 1, cell.y() - 1, cell.z() - 1);
-        // Along x: 16 rows (y, z) of cubics; along y: 4 sextics; along z: the nonic. Coefficient
-        // index outermost, so that the inner loops run over contiguous rows (they vectorise).
-        double px[4][16] = {};
-        for (int a = 0; a < 4; ++a) {
-            double fa[16];
-            for (int row = 0; row < 16; ++row) fa[row] = f[a][row];
-            for (int k = 0; k < 4; ++k)
-                for (int row = 0; row < 16; ++row) px[k][row] += fa[row] * wx[a][k];
-        }
-        double py[7][4] = {};
-        for (int b = 0; b < 4; ++b)
-            for (int k = 0; k < 4; ++k)
-                for (int l = 0; l < 4; ++l)
-                    for (int c = 0; c < 4; ++c) py[k + l][c] += px[k][4 * b + c] * wy[b][l];
-        for (double& x : r.poly) x = 0.0;
-        for (int k = 0; k < 7; ++k)
-            for (int c = 0; c < 4; ++c)
-                for (int l = 0; l < 4; ++l) r.poly[k + l] += py[k][c] * wz[c][l];
+        // Along x: 16 rows (y, z) of cubics; along y: 4 sextics; along z: the nonic (~600
+        // products), with SIMD vectors over rows (volume/dvr_simd.h; the same bits as scalar
+        // loops, tests/volume/test_dvr_simd.cpp).
+        rayCellPolynomial(f, wx, wy, wz, r.poly);
         r.o = o;
         r.d = d;
         r.cell = cell;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace lobe {
 
@@ -61,6 +62,41 @@ constexpr double kCellJumpStep = 0.3;
 // (GridReconstructor::bsplineOnRay). Rendering 1 at 512² × 8 spp: step 0.05, 16.0 → 15.2 CPU s;
 // at 0.1 it would cost 3 % more (6.7 samples a cell do not pay for building the polynomial).
 constexpr double kRayPolynomialStep = 0.075;
+// One row of an octant table (DvrVolume::computeCellDistances): c holds 0 (visible) or the cap
+// for cells 1 … nx, r0/r1/r2 the finished rows at y + sy, z + sz and both, and r0s/r1s/r2s the
+// same rows shifted by sx; rowA and rowB are scratch of nx + 2 cells. A free function with its
+// arguments by value: stores through unsigned char may alias anything, and captured references
+// reloaded in every iteration kept the loops scalar.
+void octantRow(unsigned char* c, const unsigned char* r0, const unsigned char* r0s,
+               const unsigned char* r1, const unsigned char* r1s, const unsigned char* r2,
+               const unsigned char* r2s, int nx, int sx, unsigned char* rowA, unsigned char* rowB) {
+    unsigned char* __restrict in = rowA;
+    unsigned char* __restrict out = rowB;
+    for (int x = 1; x <= nx; ++x) {
+        unsigned char m = std::min(r0[x], r0s[x]);
+        m = std::min(m, std::min(r1[x], r1s[x]));
+        m = std::min(m, std::min(r2[x], r2s[x]));
+        // m ≤ cap < 255: no overflow. Visible cells (0) stay 0.
+        in[x] = std::min(c[x], (unsigned char)(m + 1));
+    }
+    // Along the row, against the sign: c(x) = min over k ≥ 0 of in(x + k·sx) + k, the serial
+    // recurrence c(x) = min(in(x), c(x + sx) + 1) unrolled by doubling (after the round of
+    // shift s, k runs over [0, 2s); shifts up to 128 cover the cap), each round a loop the
+    // compiler vectorises. Cells past the row's end are the cap and change nothing.
+    for (int sh = 1; sh <= 128 && sh < nx; sh *= 2) {
+        if (sx > 0) {
+            for (int x = 1; x <= nx - sh; ++x)
+                out[x] = (unsigned char)std::min<int>(in[x], int(in[x + sh]) + sh);
+            for (int x = std::max(1, nx - sh + 1); x <= nx; ++x) out[x] = in[x];
+        } else {
+            for (int x = 1; x <= sh; ++x) out[x] = in[x];
+            for (int x = sh + 1; x <= nx; ++x)
+                out[x] = (unsigned char)std::min<int>(in[x], int(in[x - sh]) + sh);
+        }
+        std::swap(in, out);
+    }
+    std::copy_n(in + 1, nx, c + 1);
+}
 }  // namespace
 
 DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
@@ -213,7 +249,12 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
                         }
             }
     });
-    if (dense_ && settings_.emptySpaceSkipping && !settings_.preIntegrated) computeCellDistances();
+    // The octant tables (8 bytes a cell) within the dense copy's budget too, so both together
+    // take at most a quarter of the machine's memory; beyond, the brick and cell tests.
+    const double tableBytes =
+        8.0 * double(brickCount_[0]) * brickCount_[1] * brickCount_[2] * double(b) * b * b;
+    if (dense_ && settings_.emptySpaceSkipping && !settings_.preIntegrated && tableBytes <= budget)
+        computeCellDistances();
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
     tfArrays_ = std::make_shared<const TfArrays>(tf_);
@@ -263,21 +304,25 @@ void DvrVolume::computeClearance() {
 }
 
 void DvrVolume::computeCellDistances() {
-    // Header, "Cell distances": the capped chessboard distance transform of the transparent
-    // cells by the two-pass chamfer transform with unit weights over the 26-neighbourhood, exact
-    // for the chessboard metric (Rosenfeld & Pfaltz 1966; Borgefors 1984), as computeClearance
-    // does for the bricks. Each pass relaxes a cell from its 13 neighbours that precede it in
-    // the pass's raster order: the 12 in the previous row and slab at once for a whole row (a
-    // loop the compiler vectorises), then the one before it in the row, in order. The table is
-    // padded by one cell of `cap` on every side (outside counts as transparent) so no neighbour
-    // needs a bounds test; the result is copied out without the padding.
+    // Header, "Cell distances": per octant of directions (signs sx, sy, sz), the side of the
+    // largest transparent cube of cells that starts at a cell and extends towards that octant,
+    // F(c) = 0 on a visible cell, else min(cap, 1 + min over the 7 neighbours c + δ, δ ∈
+    // {0,1}³ \ {0} scaled by the signs): the cube of side m at c is c and the seven cubes of side
+    // m − 1 at those neighbours (each offset o ∈ [0, m)³ \ {0} is δ + o' with δ_a = [o_a ≥ 1]
+    // and o' ∈ [0, m − 1)³). One raster pass in the order opposite to the octant's signs reaches
+    // every neighbour first — the forward half of the two-pass chamfer transform (Rosenfeld &
+    // Pfaltz 1966; Borgefors 1984), exact for this one-sided chessboard metric. Each row: the
+    // six neighbours in the next row and slab at once (a loop the compiler vectorises), then the
+    // one along the row, in order. The tables are padded by one cell of `cap` on every side
+    // (outside counts as transparent) so no neighbour needs a bounds test; each is copied out
+    // without the padding, brick by brick.
     const int b = settings_.brickSize, shift = brickShift_;
     for (int a = 0; a < 3; ++a) cellCount_[a] = brickCount_[a] * b;
     const int nx = cellCount_[0], ny = cellCount_[1], nz = cellCount_[2];
     const int px = nx + 2, py = ny + 2, pz = nz + 2;
     const size_t row = size_t(px), slab = size_t(px) * py;
-    constexpr unsigned char cap = kCellDistanceCap;
-    std::vector<unsigned char> d(slab * pz, cap);
+    constexpr unsigned char cap = kOctantDistanceCap;
+    std::vector<unsigned char> init(slab * pz, cap);
     // Brick by brick: transparent bricks keep `cap`; the others take their cell bits.
     auto forEachBrick = [&](auto&& fn) {
         tbb::parallel_for(0, brickCount_[2], [&](int bz) {
@@ -292,59 +337,62 @@ void DvrVolume::computeCellDistances() {
         const uint64_t* words = &cellTransparent_[brick * size_t(cellWords_)];
         for (int cz = 0; cz < b; ++cz)
             for (int cy = 0; cy < b; ++cy) {
-                unsigned char* out = &d[size_t(bz * b + cz + 1) * slab +
-                                        size_t(by * b + cy + 1) * row + size_t(bx * b + 1)];
+                unsigned char* out = &init[size_t(bz * b + cz + 1) * slab +
+                                           size_t(by * b + cy + 1) * row + size_t(bx * b + 1)];
                 for (int cx = 0; cx < b; ++cx) {
                     const int bit = (cz * b + cy) * b + cx;
                     out[cx] = (words[bit >> 6] >> (bit & 63) & 1) ? cap : 0;
                 }
             }
     });
-    std::vector<unsigned char> near(static_cast<size_t>(px));
-    // One pass; sign +1: forwards (neighbours at y − 1 and z − 1), −1: backwards.
-    auto pass = [&](int sign) {
-        const std::ptrdiff_t dy = sign * std::ptrdiff_t(row), dz = sign * std::ptrdiff_t(slab);
+    tbb::parallel_for(0, 8, [&](int octant) {
+        const int sx = octant & 1 ? -1 : 1, sy = octant & 2 ? -1 : 1, sz = octant & 4 ? -1 : 1;
+        std::vector<unsigned char> d(init);
+        // Default-initialised (each task its own, in parallel): the copy below writes every cell.
+        octantDistance_[size_t(octant)].reset(new unsigned char[size_t(nx) * ny * nz]);
+        std::vector<unsigned char> rowA(static_cast<size_t>(px)), rowB(rowA);
+        const std::ptrdiff_t dy = sy * std::ptrdiff_t(row), dz = sz * std::ptrdiff_t(slab);
         for (int zi = 0; zi < nz; ++zi) {
-            const int z = sign > 0 ? zi + 1 : nz - zi;
+            const int z = sz > 0 ? nz - zi : zi + 1;  // the neighbour at z + sz first
             for (int yi = 0; yi < ny; ++yi) {
-                const int y = sign > 0 ? yi + 1 : ny - yi;
+                const int y = sy > 0 ? ny - yi : yi + 1;
                 unsigned char* c = &d[size_t(z) * slab + size_t(y) * row];
-                const unsigned char *r0 = c - dy, *r1 = c - dz - dy, *r2 = c - dz,
-                                    *r3 = c - dz + dy;
-                for (int x = 1; x <= nx; ++x) {
-                    unsigned char m = std::min(std::min(r0[x - 1], r0[x]), r0[x + 1]);
-                    m = std::min(m, std::min(std::min(r1[x - 1], r1[x]), r1[x + 1]));
-                    m = std::min(m, std::min(std::min(r2[x - 1], r2[x]), r2[x + 1]));
-                    m = std::min(m, std::min(std::min(r3[x - 1], r3[x]), r3[x + 1]));
-                    // m ≤ cap < 255: no overflow. Visible cells (0) stay 0.
-                    near[size_t(x)] = std::min(c[x], (unsigned char)(m + 1));
-                }
-                // Along the row, in this pass's order: c = min(near, previous + 1), branch-free.
-                if (sign > 0) {
-                    int e = cap;
-                    for (int x = 1; x <= nx; ++x)
-                        c[x] = (unsigned char)(e = std::min<int>(near[size_t(x)], e + 1));
-                } else {
-                    int e = cap;
-                    for (int x = nx; x >= 1; --x)
-                        c[x] = (unsigned char)(e = std::min<int>(near[size_t(x)], e + 1));
-                }
+                const unsigned char *r0 = c + dy, *r0s = r0 + sx, *r1 = c + dz, *r1s = r1 + sx,
+                                    *r2 = c + dz + dy, *r2s = r2 + sx;
+                octantRow(c, r0, r0s, r1, r1s, r2, r2s, nx, sx, rowA.data(), rowB.data());
             }
         }
-    };
-    pass(+1);
-    pass(-1);
-    // Stored brick by brick (the B³ cells of a brick together, x fastest: one 64-byte cache line
-    // at B = 4), so the rays of a tile that look up nearby cells share lines.
-    cellDistance_.resize(size_t(nx) * ny * nz);
-    forEachBrick([&](int bx, int by, int bz, size_t brick) {
-        unsigned char* out = &cellDistance_[brick << (3 * shift)];
-        for (int cz = 0; cz < b; ++cz)
-            for (int cy = 0; cy < b; ++cy, out += b)
-                std::copy_n(&d[size_t(bz * b + cz + 1) * slab + size_t(by * b + cy + 1) * row +
-                               size_t(bx * b + 1)],
-                            b, out);
+        // Stored brick by brick (the B³ cells of a brick together, x fastest: one 64-byte cache
+        // line at B = 4), so the rays of a tile that look up nearby cells share lines.
+        unsigned char* table = octantDistance_[size_t(octant)].get();
+        for (size_t brick = 0, n = size_t(brickCount_[0]) * brickCount_[1] * brickCount_[2];
+             brick < n; ++brick) {
+            const int bx = int(brick % size_t(brickCount_[0]));
+            const int by = int(brick / size_t(brickCount_[0]) % size_t(brickCount_[1]));
+            const int bz = int(brick / (size_t(brickCount_[0]) * brickCount_[1]));
+            unsigned char* out = &table[brick << (3 * shift)];
+            for (int cz = 0; cz < b; ++cz)
+                for (int cy = 0; cy < b; ++cy, out += b) {
+                    const unsigned char* in =
+                        &d[size_t(bz * b + cz + 1) * slab + size_t(by * b + cy + 1) * row +
+                           size_t(bx * b + 1)];
+                    if (b == 4)
+                        std::memcpy(out, in, 4);  // one move, not a call
+                    else
+                        std::copy_n(in, b, out);
+                }
+        }
     });
+}
+
+int DvrVolume::cellDistance(int i, int j, int k) const {
+    const int q[3] = {i - brickLo_[0], j - brickLo_[1], k - brickLo_[2]};
+    for (int a = 0; a < 3; ++a)
+        if (q[a] < 0 || q[a] >= cellCount_[a]) return -1;
+    // The nearest visible cell lies in one octant's forward region (header, "Cell distances").
+    int d = kCellDistanceCap;
+    for (const auto& t : octantDistance_) d = std::min<int>(d, t[cellSlot(q[0], q[1], q[2])]);
+    return d;
 }
 
 bool DvrVolume::cellTransparent(int i, int j, int k) const {
@@ -427,6 +475,12 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     prevK_ = -2;
     prevSkippable_ = false;
     visibleCellEnd_ = -kInf;
+    octantTable_ = nullptr;
+    if (vol_->hasCellDistances()) {
+        const int octant =
+            (dIdx_[0] < 0.0 ? 1 : 0) | (dIdx_[1] < 0.0 ? 2 : 0) | (dIdx_[2] < 0.0 ? 4 : 0);
+        octantTable_ = vol_->octantDistance_[size_t(octant)].get();
+    }
     for (int a = 0; a < 3; ++a) invDIdx_[a] = dIdx_[a] != 0.0 ? 1.0 / dIdx_[a] : 0.0;
     invDt_ = 1.0 / dt_;
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
@@ -494,7 +548,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         // A packet starts at a point found visible; the points after it in the same cell
         // (floor(p) equal) get the same answer from the tables below, so they skip the test.
         const bool sameCell = k_ > packetK0_ && k_ - packetK0_ < packetSameCell_;
-        if (!v.cellDistance_.empty()) {
+        if (octantTable_) {
             // One table read per point (header, "Cell distances").
             if (!sameCell && t >= visibleCellEnd_ && skipByCellDistance(p)) continue;
         } else if (set.emptySpaceSkipping && !sameCell) {
@@ -644,7 +698,7 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p) {
         // A point that rounding puts just outside the table is evaluated, never skipped.
         if (unsigned(q[a]) >= unsigned(v.cellCount_[a])) return false;
     }
-    const int d = v.cellDistance_[v.cellSlot(q[0], q[1], q[2])];
+    const int d = octantTable_[v.cellSlot(q[0], q[1], q[2])];
     if (d == 0) {
         // A visible cell at a fine step holds ~1 / step points: those before the ray's exit
         // from it need no table read (header, "Cell distances"). Rounding can only put a point
@@ -668,9 +722,9 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p) {
         ++k_;
         return true;
     }
-    if (d == DvrVolume::kCellDistanceCap) {
-        // Far from anything visible: the cube of bricks around the cell's brick when it is
-        // larger (its half-side is at least (c − 1)·B, the cells' d − 1).
+    if (d == DvrVolume::kOctantDistanceCap) {
+        // Far from anything visible: the cube of bricks around the cell's brick when it reaches
+        // further (its half-side is at least (c − 1)·B; the octant cube's reach is d − 1).
         const int shift = v.brickShift_, b = 1 << shift;
         int bi[3];
         for (int a = 0; a < 3; ++a) bi[a] = q[a] >> shift;
@@ -684,9 +738,10 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p) {
             return true;
         }
     }
+    // Past the cube of side d that starts at the cell and extends along the ray's direction.
     int lo[3];
-    for (int a = 0; a < 3; ++a) lo[a] = cell[a] - d + 1;
-    jumpPastBox(lo, 2 * d - 1);
+    for (int a = 0; a < 3; ++a) lo[a] = dIdx_[a] < 0.0 ? cell[a] - d + 1 : cell[a];
+    jumpPastBox(lo, d);
     return true;
 }
 

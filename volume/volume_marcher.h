@@ -49,19 +49,28 @@
 // at coarse steps a transparent cell inside a visible brick was stepped point by point: a T2 ray
 // through the CThead at step 1 visited 37 points for 10 reconstructions (11 brick jumps, 14
 // transparent cells stepped). When the dense copy exists (and without pre-integration) one byte
-// per cell replaces both: the chessboard (L∞) distance d in cells from the cell to the nearest
-// cell that is not transparent (0 for those), capped at 16. The cube of (2d − 1)³ cells centred
-// on a cell with d ≥ 1 is transparent, so from a lattice point in it the marcher jumps to the
-// first point past that cube — one table read per point, and runs of transparent cells near a
-// surface crossed in one jump; at fine steps (below 0.3 voxel) the points after the first one
-// in a visible cell, up to the ray's exit from that cell, skip the read too (at step 0.05 a
-// cell holds ~20 points). Where the distance saturates (far from anything visible) the brick
-// clearance gives the longer jump. The table is the exact capped distance transform: d = 0 on
-// cells that are not transparent, else min(cap, 1 + min over the 26 neighbours), reached by
-// cap − 1 Jacobi sweeps of that 3×3×3 minimum (separable: along x, y, then z); cells outside the
-// table count as transparent as for the bricks. The cells' transparency is the two levels' (a
-// cell of a transparent brick, or a cell whose bit is set), so the samples that contribute are
-// the same as with the two levels, bit for bit.
+// per cell and octant of directions replaces both: for the octant of signs s = (±1, ±1, ±1),
+// the side m of the largest cube of transparent cells that starts at the cell and extends
+// towards s, {c + (s_x o_x, s_y o_y, s_z o_z) : 0 ≤ o_a < m} (0 for a cell that is not
+// transparent), capped at 254. A ray reads the table of its own octant (a zero direction
+// component counts as +: the ray then stays in its cell's slab along that axis), and from a
+// lattice point in a cell with m ≥ 1 it jumps to the first point past that cube — a ray moving
+// into the octant leaves the cube only through its far faces, so the cube's whole length ahead
+// is one jump, where a cube centred on the cell (the single table before, one byte per cell:
+// the chessboard distance d, cube (2d − 1)³) spent half its reach behind the ray and was limited
+// by whatever lay behind it. On T2 at step 1 the table reads per ray fell from 27 to 18 (jumps
+// 11.2 → 6.0, cells stepped 5.4 → 2.2; docs/performance.md). At fine steps (below 0.3 voxel) the
+// points after the first one in a visible cell, up to the ray's exit from that cell, skip the
+// read too (at step 0.05 a cell holds ~20 points). Where the distance saturates the brick
+// clearance gives the longer jump when it reaches further. Each table is exact: m = 0 on cells
+// that are not transparent, else min(cap, 1 + min over the 7 neighbours c + s∘δ, δ ∈ {0,1}³ \
+// {0}), one raster pass against the octant's signs; cells outside the table count as
+// transparent as for the bricks. The cells' transparency is the two levels' (a cell of a
+// transparent brick, or a cell whose bit is set), so the samples that contribute are the same
+// as with the two levels, bit for bit. Memory: 8 bytes per cell (the CThead's 7.8 M cells: 63
+// MB, twice its dense copy), built in parallel at load (~0.1 s for the CThead); only when that
+// fits the dense copy's budget (DenseField::kMaxBytes and an eighth of the memory), else the
+// marcher keeps the brick and cell tests.
 //
 // Pre-integration (DvrSettings::preIntegrated; volume/pre_integration.h). Each sample then
 // stands for the segment from the previous lattice point to it: its opacity and colour are the
@@ -166,18 +175,26 @@ public:
     int brickClearance(int bx, int by, int bz) const {
         return brickTransparent_[(size_t(bz) * brickCount_[1] + by) * brickCount_[0] + bx];
     }
-    // The cell distance table (header, "Cell distances"): whether it was built, and for the
+    // The cell distance tables (header, "Cell distances"): whether they were built, and for the
     // cell [i, i+1) × [j, j+1) × [k, k+1) (index space) its chessboard distance in cells to the
     // nearest cell that may hold a visible sample, capped at kCellDistanceCap; 0 for such a
-    // cell. Cells outside the table: −1.
-    bool hasCellDistances() const { return !cellDistance_.empty(); }
-    int cellDistance(int i, int j, int k) const {
+    // cell. Cells outside the table: −1. The minimum over the 8 octant tables (the nearest
+    // visible cell lies in some octant's orthant); for reports and tests — the marcher reads
+    // the octant tables.
+    bool hasCellDistances() const { return octantDistance_[0] != nullptr; }
+    int cellDistance(int i, int j, int k) const;
+    static constexpr int kCellDistanceCap = 16;
+    // The octant tables the marcher reads (header, "Cell distances"): for the octant of
+    // directions with signs s = (±1, ±1, ±1) (octant bit a set when s_a = −1), the side m of the
+    // largest cube of transparent cells {c + (s_x o_x, s_y o_y, s_z o_z) : 0 ≤ o_a < m}, capped at
+    // kOctantDistanceCap; 0 for a visible cell, −1 outside the table.
+    int octantDistance(int octant, int i, int j, int k) const {
         const int q[3] = {i - brickLo_[0], j - brickLo_[1], k - brickLo_[2]};
         for (int a = 0; a < 3; ++a)
             if (q[a] < 0 || q[a] >= cellCount_[a]) return -1;
-        return cellDistance_[cellSlot(q[0], q[1], q[2])];
+        return octantDistance_[size_t(octant)][cellSlot(q[0], q[1], q[2])];
     }
-    static constexpr int kCellDistanceCap = 16;
+    static constexpr int kOctantDistanceCap = 254;
     // Whether the brick and cell tables call the cell [i, i+1)³ … transparent (a cell of a
     // transparent brick, or one whose bit is set); false outside the tables.
     bool cellTransparent(int i, int j, int k) const;
@@ -206,12 +223,13 @@ private:
     // (header, "Empty-space skipping").
     int cellWords_ = 0;
     std::vector<uint64_t> cellTransparent_;
-    // Per cell of the brick table's box (x fastest, cellCount_ = brickCount_ · B per axis): the
-    // chessboard distance in cells to the nearest cell that may be visible, capped at
-    // kCellDistanceCap (header, "Cell distances"). Empty without the dense copy (very large
+    // Per octant and cell of the brick table's box (cellCount_ = brickCount_ · B per axis): the
+    // side of the largest transparent cube from the cell towards the octant, capped at
+    // kOctantDistanceCap (header, "Cell distances"). Null without the dense copy (very large
     // grids), with pre-integration or without skipping: the marcher then tests bricks and cells.
     int cellCount_[3] = {0, 0, 0};
-    std::vector<unsigned char> cellDistance_;
+    // Not value-initialised: every cell is written by computeCellDistances.
+    std::array<std::unique_ptr<unsigned char[]>, 8> octantDistance_;
     void computeCellDistances();
     // Where cell (x, y, z) of the table (from brickLo_) is stored: brick by brick, B³ cells each.
     size_t cellSlot(int x, int y, int z) const {
@@ -282,6 +300,8 @@ private:
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
     double visibleCellEnd_ = -std::numeric_limits<double>::infinity();
+    // The octant table of this ray's direction (null without the tables), and its signs.
+    const unsigned char* octantTable_ = nullptr;
 
     const DvrVolume* vol_;
     GridReconstructor recon_;

@@ -175,6 +175,145 @@ TEST(DvrSimd, TrilinearPacketReproducesALinearFieldAndTheTfLookup) {
     EXPECT_EQ(latticePacketTrilinear(outside, 0, 4, field, arrays, out), 0);
 }
 
+// GridReconstructor::ensureRayCell's loops as they were before rayCellPolynomial (scalar, the
+// reference the kernel must match bit for bit).
+void rayCellPolynomialScalar(const float f[4][16], const double wx[4][4], const double wy[4][4],
+                             const double wz[4][4], double poly[10]) {
+    double px[4][16] = {};
+    for (int a = 0; a < 4; ++a) {
+        double fa[16];
+        for (int row = 0; row < 16; ++row) fa[row] = f[a][row];
+        for (int k = 0; k < 4; ++k)
+            for (int row = 0; row < 16; ++row) px[k][row] += fa[row] * wx[a][k];
+    }
+    double py[7][4] = {};
+    for (int b = 0; b < 4; ++b)
+        for (int k = 0; k < 4; ++k)
+            for (int l = 0; l < 4; ++l)
+                for (int c = 0; c < 4; ++c) py[k + l][c] += px[k][4 * b + c] * wy[b][l];
+    for (int j = 0; j < 10; ++j) poly[j] = 0.0;
+    for (int k = 0; k < 7; ++k)
+        for (int c = 0; c < 4; ++c)
+            for (int l = 0; l < 4; ++l) poly[k + l] += py[k][c] * wz[c][l];
+}
+
+TEST(DvrSimd, RayCellPolynomialIsTheScalarLoopsBitForBitOnEveryTarget) {
+    // Random blocks (signed, so sums cancel) and weights, on each SIMD target this CPU runs; and a
+    // closed form: a single voxel of 1 at (a, b, c) gives poly[j] = Σ_{k+l+m=j} wx[a][k] wy[b][l]
+    // wz[c][m] (up to rounding).
+    int targets = 0;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        ++targets;
+        for (int n = 0; n < 500; ++n) {
+            Rng rng(11, n);
+            float f[4][16];
+            double w[3][4][4];
+            for (auto& row : f)
+                for (float& x : row) x = float(2.0 * rng.uniform() - 1.0);
+            for (auto& axis : w)
+                for (auto& a : axis)
+                    for (double& x : a) x = 4.0 * rng.uniform() - 2.0;
+            double got[10], want[10];
+            rayCellPolynomial(f, w[0], w[1], w[2], got);
+            rayCellPolynomialScalar(f, w[0], w[1], w[2], want);
+            for (int j = 0; j < 10; ++j)
+                ASSERT_EQ(got[j], want[j])
+                    << hwy::TargetName(target) << " case " << n << " j " << j;
+            if (n % 50 == 0) {
+                const int a = n % 4, b = (n / 4) % 4, c = (n / 16) % 4;
+                float one[4][16] = {};
+                one[a][4 * b + c] = 1.0f;
+                rayCellPolynomial(one, w[0], w[1], w[2], got);
+                for (int j = 0; j < 10; ++j) {
+                    double sum = 0.0;
+                    for (int k = 0; k < 4; ++k)
+                        for (int l = 0; l < 4; ++l) {
+                            const int m = j - k - l;
+                            if (m >= 0 && m < 4) sum += w[0][a][k] * w[1][b][l] * w[2][c][m];
+                        }
+                    EXPECT_NEAR(got[j], sum, 1e-13) << j;
+                }
+            }
+        }
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    EXPECT_GE(targets, 2);
+}
+
+// GridReconstructor::bsplineWithGradient's loops as they were before bsplineBlock (scalar, the
+// reference the kernel must match bit for bit).
+void bsplineBlockScalar(const float f[4][16], const double w[3][4], const double dw[3][4],
+                        double out[4]) {
+    double vx[16] = {}, dvx[16] = {};
+    for (int a = 0; a < 4; ++a)
+        for (int r = 0; r < 16; ++r) {
+            vx[r] += w[0][a] * double(f[a][r]);
+            dvx[r] += dw[0][a] * double(f[a][r]);
+        }
+    double vz[4] = {0, 0, 0, 0}, gxz[4] = {0, 0, 0, 0}, gyz[4] = {0, 0, 0, 0};
+    for (int b = 0; b < 4; ++b)
+        for (int c = 0; c < 4; ++c) {
+            vz[c] += w[1][b] * vx[4 * b + c];
+            gxz[c] += w[1][b] * dvx[4 * b + c];
+            gyz[c] += dw[1][b] * vx[4 * b + c];
+        }
+    double v = 0.0, gx = 0.0, gy = 0.0, gz = 0.0;
+    for (int c = 0; c < 4; ++c) {
+        v += w[2][c] * vz[c];
+        gx += w[2][c] * gxz[c];
+        gy += w[2][c] * gyz[c];
+        gz += dw[2][c] * vz[c];
+    }
+    out[0] = v;
+    out[1] = gx;
+    out[2] = gy;
+    out[3] = gz;
+}
+
+TEST(DvrSimd, BSplineBlockIsTheScalarLoopsBitForBitOnEveryTarget) {
+    // Random signed blocks and weights on each SIMD target this CPU runs, value alone and with
+    // the gradient; and a closed form: a single voxel of 1 at (a, b, c) gives w[0][a] w[1][b]
+    // w[2][c] and its derivatives (up to rounding).
+    int targets = 0;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        ++targets;
+        for (int n = 0; n < 500; ++n) {
+            Rng rng(13, n);
+            float f[4][16];
+            double w[3][4], dw[3][4];
+            for (auto& row : f)
+                for (float& x : row) x = float(2.0 * rng.uniform() - 1.0);
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < 4; ++i) {
+                    w[a][i] = rng.uniform();
+                    dw[a][i] = 2.0 * rng.uniform() - 1.0;
+                }
+            double got[4], value[4], want[4];
+            bsplineBlock(f, w, dw, got);
+            bsplineBlock(f, w, nullptr, value);
+            bsplineBlockScalar(f, w, dw, want);
+            for (int j = 0; j < 4; ++j)
+                ASSERT_EQ(got[j], want[j])
+                    << hwy::TargetName(target) << " case " << n << " j " << j;
+            ASSERT_EQ(value[0], want[0]) << hwy::TargetName(target) << " case " << n;
+            if (n % 50 == 0) {
+                const int a = n % 4, b = (n / 4) % 4, c = (n / 16) % 4;
+                float one[4][16] = {};
+                one[a][4 * b + c] = 1.0f;
+                bsplineBlock(one, w, dw, got);
+                EXPECT_NEAR(got[0], w[0][a] * w[1][b] * w[2][c], 1e-15);
+                EXPECT_NEAR(got[1], dw[0][a] * w[1][b] * w[2][c], 1e-15);
+                EXPECT_NEAR(got[2], w[0][a] * dw[1][b] * w[2][c], 1e-15);
+                EXPECT_NEAR(got[3], w[0][a] * w[1][b] * dw[2][c], 1e-15);
+            }
+        }
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    EXPECT_GE(targets, 2);
+}
+
 TEST(DvrSimd, PolynomialPacketStopsAtTheCellExit) {
     // f(t) = 1 + t (coefficients of (t − t0)^j with t0 = 0): values are exact; the ray leaves
     // cell (0, 0, 0) at x = 1, i.e. t = 0.75 for o.x = 0.25, d.x = 1: points t = 0.05 … 0.7

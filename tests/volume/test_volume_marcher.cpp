@@ -5,6 +5,7 @@
 // lattice; the gradient threshold. Samples are composited with the renderer's compositor
 // (render/compositor.h); the integrator's depth merge of several volumes is tested through the
 // integrator itself (tests/render/test_hybrid.cpp).
+#include "core/memory.h"
 #include "core/rng.h"
 #include "dvr_test_grids.h"
 #include "render/compositor.h"
@@ -374,6 +375,145 @@ TEST(VolumeMarcher, CellDistanceIsTheCappedChessboardDistance) {
     EXPECT_GT(checked, 6 * 125000);
 }
 
+TEST(VolumeMarcher, OctantDistanceIsTheLargestTransparentForwardCube) {
+    // Against a brute-force search over the visible cells, for all 8 octants (bit a set: the
+    // cube extends towards −a): the side of the largest cube of transparent cells that starts at
+    // a cell and extends into the octant is the smallest chessboard offset of a visible cell in
+    // that octant's closed orthant, capped; outside the table counts as transparent. Every
+    // seventh cell of the table, two brick sizes and both supports.
+    const int cap = DvrVolume::kOctantDistanceCap;
+    long long checked = 0;
+    int largest = 0, capped = 0;
+    for (int bs : {2, 4})
+        for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline}) {
+            DvrSettings set;
+            set.brickSize = bs;
+            set.reconstruction = r;
+            const DvrVolume vol(randomBalls(40 + bs, 3), stepTf(0.3), set);
+            ASSERT_TRUE(vol.hasCellDistances());
+            std::vector<std::array<int, 3>> visible, cells;
+            for (int k = -12; k < 64; ++k)
+                for (int j = -12; j < 64; ++j)
+                    for (int i = -12; i < 64; ++i) {
+                        if (vol.octantDistance(0, i, j, k) < 0) continue;
+                        if (!vol.cellTransparent(i, j, k)) visible.push_back({i, j, k});
+                        if ((i + 2 * j + 3 * k) % 7 == 0) cells.push_back({i, j, k});
+                    }
+            ASSERT_GT(visible.size(), 20u);
+            for (int octant = 0; octant < 8; ++octant) {
+                const int s[3] = {octant & 1 ? -1 : 1, octant & 2 ? -1 : 1, octant & 4 ? -1 : 1};
+                for (const auto& c : cells) {
+                    int expected = cap;
+                    for (const auto& v : visible) {
+                        int m = 0;
+                        for (int a = 0; a < 3; ++a) m = std::max(m, s[a] * (v[a] - c[a]));
+                        bool inOrthant = true;
+                        for (int a = 0; a < 3; ++a)
+                            inOrthant = inOrthant && s[a] * (v[a] - c[a]) >= 0;
+                        if (inOrthant) expected = std::min(expected, m);
+                    }
+                    ASSERT_EQ(vol.octantDistance(octant, c[0], c[1], c[2]), expected)
+                        << c[0] << " " << c[1] << " " << c[2] << " octant " << octant << " brick "
+                        << bs;
+                    if (expected < cap) largest = std::max(largest, expected);
+                    capped += expected == cap ? 1 : 0;
+                    ++checked;
+                }
+            }
+        }
+    EXPECT_GT(largest, DvrVolume::kCellDistanceCap);  // longer than the centred table's cap
+    EXPECT_GT(capped, 1000);                          // no visible cell in the orthant at all
+    EXPECT_GT(checked, 4 * 8 * 20000);
+}
+
+TEST(VolumeMarcher, OctantDistanceReachesAlongLongRows) {
+    // A 300-voxel row with one visible ball at its +x end: the table's rows are scanned by
+    // doubling, and the distances towards +x must run up to ~290 cells (capped at 254), the ones
+    // towards −x stay capped past the ball. Brute force as above, on every cell of the table.
+    const openvdb::FloatGrid::Ptr grid = test::makeGrid(
+        [](int i, int j, int k) {
+            const double r2 =
+                (i - 292.0) * (i - 292.0) + (j - 4.0) * (j - 4.0) + (k - 4.0) * (k - 4.0);
+            return std::exp(-r2 / 4.0);
+        },
+        Coord(0, 0, 0), Coord(299, 8, 8));
+    const DvrVolume vol(grid, stepTf(0.3), DvrSettings());
+    ASSERT_TRUE(vol.hasCellDistances());
+    const int cap = DvrVolume::kOctantDistanceCap;
+    std::vector<std::array<int, 3>> visible, cells;
+    for (int k = -8; k < 20; ++k)
+        for (int j = -8; j < 20; ++j)
+            for (int i = -8; i < 320; ++i) {
+                if (vol.octantDistance(0, i, j, k) < 0) continue;
+                cells.push_back({i, j, k});
+                if (!vol.cellTransparent(i, j, k)) visible.push_back({i, j, k});
+            }
+    ASSERT_GT(visible.size(), 8u);
+    int largest = 0;
+    for (int octant : {0, 1, 6, 7})
+        for (const auto& c : cells) {
+            const int s[3] = {octant & 1 ? -1 : 1, octant & 2 ? -1 : 1, octant & 4 ? -1 : 1};
+            int expected = cap;
+            for (const auto& v : visible) {
+                int m = 0;
+                bool inOrthant = true;
+                for (int a = 0; a < 3; ++a) {
+                    m = std::max(m, s[a] * (v[a] - c[a]));
+                    inOrthant = inOrthant && s[a] * (v[a] - c[a]) >= 0;
+                }
+                if (inOrthant) expected = std::min(expected, m);
+            }
+            ASSERT_EQ(vol.octantDistance(octant, c[0], c[1], c[2]), expected)
+                << c[0] << " " << c[1] << " " << c[2] << " octant " << octant;
+            if (expected < cap) largest = std::max(largest, expected);
+        }
+    EXPECT_GT(largest, 200);
+}
+
+TEST(VolumeMarcher, OctantJumpsChangeNoSampleOnAxisAndDiagonalRays) {
+    // Rays along the 26 directions of {−1, 0, 1}³ (zero components: the ray stays in its cell's
+    // slab, and −0 and +0 pick different octants) through random volumes, started on lattice
+    // planes and between them: with skipping every contributing sample equals the one without.
+    for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline})
+        for (double step : {1.0, 0.5, 0.05}) {
+            DvrSettings on, off;
+            on.reconstruction = off.reconstruction = r;
+            on.stepVoxels = off.stepVoxels = step;
+            off.emptySpaceSkipping = false;
+            std::vector<Vec3> centres;
+            const openvdb::FloatGrid::Ptr grid = randomBalls(77, 6, &centres);
+            const TransferFunction tf = TransferFunction::cortex(0.4, 0.3);
+            const DvrVolume vOn(grid, tf, on), vOff(grid, tf, off);
+            long long skipped = 0, contributing = 0;
+            Rng rng(9, int(step * 100));
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        if (dx == 0 && dy == 0 && dz == 0) continue;
+                        for (int n = 0; n < 8; ++n) {
+                            const double z = n % 2 ? 0.0 : -0.0;  // signed zeros
+                            const Vec3 dir =
+                                normalized(Vec3(dx ? dx : z, dy ? dy : z, dz ? dz : z));
+                            Vec3 target = centres[size_t(n) % centres.size()];
+                            if (n % 4 < 2)  // on lattice planes
+                                target = Vec3(std::floor(target.x), std::floor(target.y),
+                                              std::floor(target.z));
+                            else
+                                target += Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5,
+                                               rng.uniform() - 0.5);
+                            Ray ray;
+                            ray.o = target - 90.0 * dir;
+                            ray.d = dir;
+                            VolumeRaySampler a(vOn), b(vOff);
+                            contributing += expectSameSamples(a, b, ray, rng.uniform());
+                            skipped += a.samplesSkipped();
+                        }
+                    }
+            EXPECT_GT(contributing, 100) << step;
+            EXPECT_GT(skipped, 1000) << step;
+        }
+}
+
 TEST(VolumeMarcher, CellsCalledTransparentReconstructOnlyTransparentValues) {
     // Independent of the tables' construction: at random points of every cell within 2 cells of
     // a visible one (where a wrong table would show first), the reconstructed value's opacity
@@ -454,6 +594,41 @@ TEST(VolumeMarcher, CellDistancesOnlyWhereTheyApply) {
     EXPECT_FALSE(DvrVolume(randomBalls(3, 2), stepTf(0.3), pre).hasCellDistances());
     EXPECT_FALSE(DvrVolume(randomBalls(3, 2), stepTf(0.3), noSkip).hasCellDistances());
     EXPECT_TRUE(DvrVolume(randomBalls(3, 2), stepTf(0.3), DvrSettings()).hasCellDistances());
+}
+
+TEST(VolumeMarcher, OctantTablesOnlyWithinTheMemoryBudget) {
+    // The 8 octant tables (8 bytes a cell) are built only within the dense copy's budget (an
+    // eighth of the memory): with a budget that holds the dense copy (4 bytes a voxel) but not
+    // the tables, the marcher falls back to the brick and cell tests — the same samples.
+    std::vector<Vec3> centres;
+    const openvdb::FloatGrid::Ptr grid = randomBalls(5, 4, &centres);
+    const TransferFunction tf = TransferFunction::cortex(0.4, 0.3);
+    DvrSettings on, off;
+    off.emptySpaceSkipping = false;
+    on.stepVoxels = off.stepVoxels = 0.5;
+    const DvrVolume full(grid, tf, on);
+    ASSERT_TRUE(full.hasCellDistances());
+    const MemoryBudget measured = memoryBudget();
+    setMemoryBudget({8.0 * 0.9e6, "the test's budget"});  // an eighth: 0.9 MB
+    const DvrVolume small(grid, tf, on), reference(grid, tf, off);
+    setMemoryBudget({0.0, ""});
+    ASSERT_GT(measured.bytes, 0.0);
+    ASSERT_NE(small.dense(), nullptr);       // ~0.8 MB: the dense copy fits
+    EXPECT_FALSE(small.hasCellDistances());  // 8 × 56³ bytes do not
+    long long skipped = 0, contributing = 0;
+    for (int n = 0; n < 40; ++n) {
+        Rng rng(3, n);
+        const Vec3 dir =
+            normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+        Ray ray;
+        ray.o = centres[size_t(n) % centres.size()] - 90.0 * dir;
+        ray.d = dir;
+        VolumeRaySampler a(small), b(reference);
+        contributing += expectSameSamples(a, b, ray, rng.uniform());
+        skipped += a.samplesSkipped();
+    }
+    EXPECT_GT(contributing, 20);
+    EXPECT_GT(skipped, 1000);
 }
 
 TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
