@@ -54,6 +54,10 @@ Integrator::Integrator(const Scene& scene) : scene_(scene) {
         surfaceTransmittance_.push_back(1.0 - so.spec->opacity);
         if (so.spec->opacity < 1.0) gatherSurfaceHits_ = true;
     }
+    bool anyCaps = false;
+    for (const SceneSurface& so : scene_.surfaceObjects()) anyCaps = anyCaps || so.caps;
+    firstHitsInPackets_ = scene_.surfaces() && scene_.surfaces()->packetsSupported() &&
+                          scene_.volumeObjects().empty() && !gatherSurfaceHits_ && !anyCaps;
     resetCaches();
 }
 
@@ -217,8 +221,21 @@ TraceState Integrator::newState() const {
     return st;
 }
 
+double Integrator::backdropDistance(const Ray& ray) const {
+    const Backdrop& backdrop = scene_.backdrop();
+    const double t = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
+    return t > ray.tMax ? kInf : t;
+}
+
+Ray Integrator::firstSurfaceSegment(const Ray& ray) const {
+    Ray segment = ray;
+    segment.tMax = std::min(ray.tMax, backdropDistance(ray));
+    return segment;
+}
+
 Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
-                           RenderStats& stats, EventSink* sink) const {
+                           RenderStats& stats, EventSink* sink,
+                           const std::optional<SurfaceHit>* firstHit) const {
     ++stats.rays;
     const SceneSpec& spec = scene_.spec();
     const Backdrop& backdrop = scene_.backdrop();
@@ -241,8 +258,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         cost->volumeSeconds += steadySeconds() - tBegin;  // clipping, lattice set-up
     // The ray ends at ray.tMax (the volume samplers clip to it too): a backdrop beyond it is not
     // seen.
-    double tBackdrop = backdrop.enabled() ? backdrop.intersect(ray) : kInf;
-    if (tBackdrop > ray.tMax) tBackdrop = kInf;
+    const double tBackdrop = backdropDistance(ray);
     const Vec3 toViewer = -ray.d;
 
     // Composites every volume sample with t < tEnd in depth order; false once opaque.
@@ -355,7 +371,14 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     for (int hits = 0;; ++hits) {
         std::optional<SurfaceHit> hit;
         const double t0 = cost ? steadySeconds() : 0.0;
-        if (surfaces && hits < kMaxSurfaceHits) hit = nextSurfaceHit();
+        if (firstHit) {
+            // Found beforehand on this very segment (firstHitsInPackets: no caps;
+            // firstSurfaceSegment).
+            hit = *firstHit;
+            firstHit = nullptr;
+        } else if (surfaces && hits < kMaxSurfaceHits) {
+            hit = nextSurfaceHit();
+        }
         if (nextCap < caps.size() && (!hit || caps[nextCap].t <= hit->t)) {
             // The cap comes first: it is the event, the surface hit is found again after it.
             const CapHit& c = caps[nextCap++];

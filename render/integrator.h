@@ -39,9 +39,12 @@
 #include "volume/volume_marcher.h"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace lobe {
+
+struct SurfaceHit;  // surface/surface_scene.h
 
 class ShadowCache;
 
@@ -117,8 +120,20 @@ public:
     // Radiance along `ray`; `jitter` ∈ [0,1) places the volumes' sample lattices, `rng` drives
     // the shading roulette (SceneSpec::shadingRoulette).
     // `sink`, when given, is told of every composited event (ShadingEvent).
+    // `firstHit`, when given, is the ray's first surface hit found beforehand
+    // (SurfaceScene::intersect8 on firstSurfaceSegment(ray); only where firstHitsInPackets()):
+    // trace uses it in place of its own first search, the same hit.
     Spectrum trace(const Ray& ray, double jitter, Rng& rng, TraceState& state, RenderStats& stats,
-                   EventSink* sink = nullptr) const;
+                   EventSink* sink = nullptr,
+                   const std::optional<SurfaceHit>* firstHit = nullptr) const;
+    // Whether a camera ray's first surface hit is all trace() searches the surfaces for, on
+    // firstSurfaceSegment(ray), so that the pixel loop may find it for 8 rays at once
+    // (render_scene.cpp, renderRow): surfaces all opaque, no volumes, caps, clips or masks (T1's
+    // exact skull: docs/performance.md).
+    bool firstHitsInPackets() const { return firstHitsInPackets_; }
+    // The part of `ray` trace() first searches the surfaces on: up to the backdrop, if the ray
+    // meets it before its end.
+    Ray firstSurfaceSegment(const Ray& ray) const;
 
     // Transmittance from `from` to `light` through the casting objects (header, "Shadows"),
     // the shadow ray starting at distance tMin; `jitter` ∈ [0, 1) places the volumes' lattices.
@@ -130,6 +145,8 @@ public:
     const ShadowCache* shadowCache() const { return cache_.get(); }
 
 private:
+    // Distance to the backdrop along `ray`; ∞ when there is none or it lies beyond ray.tMax.
+    double backdropDistance(const Ray& ray) const;
     // Fills state.shadow for a point (exact, or from the cache for volume samples); null when
     // the scene has no shadows.
     // `normal` is a surface hit's (geometric) normal, null for a volume sample.
@@ -145,6 +162,7 @@ private:
     // (SurfaceScene::collectHits) instead of one traversal per hit; with opaque surfaces only
     // the first hit is ever needed and intersect() is used. 1 − opacity per surface object.
     bool gatherSurfaceHits_ = false;
+    bool firstHitsInPackets_ = false;
     std::vector<double> surfaceTransmittance_;
     bool cachedOn_ = false;  // SceneSpec::shadows == "cached"
 };

@@ -3,6 +3,7 @@
 #include "core/memory.h"
 #include "core/pixel_loop.h"
 #include "core/rng.h"
+#include "surface/surface_scene.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 namespace lobe {
 
@@ -67,11 +69,42 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
             p->camera = cameraSample(scene, x, y, j, p->rng);
         }
     }
+    // Then, for opaque surface-only scenes, the first hits of 8 camera rays at a time: Embree
+    // walks its tree once for the 8 neighbouring rays (SurfaceScene::intersect8, the same hits;
+    // T1's exact skull: docs/performance.md).
+    const bool packets = integrator.firstHitsInPackets();
+    thread_local std::vector<std::optional<SurfaceHit>> firstHits;
+    if (packets) {
+        const double t0 = state.cost.enabled ? steadySeconds() : 0.0;
+        const int count = int(buffer.size());
+        firstHits.resize(buffer.size());
+        const bool cutAtBackdrop = scene.backdrop().enabled();
+        for (int i = 0; i < count; i += 8) {
+            const int n = std::min(8, count - i);
+            Ray segments[8];
+            const Ray* rays[8];
+            for (int k = 0; k < n; ++k) {
+                const Ray& ray = buffer[size_t(i + k)].camera.ray;
+                if (!cutAtBackdrop) {  // then the segment is the ray itself
+                    rays[k] = &ray;
+                    continue;
+                }
+                segments[k] = integrator.firstSurfaceSegment(ray);
+                rays[k] = &segments[k];
+            }
+            scene.surfaces()->intersect8(rays, n, &firstHits[size_t(i)]);
+        }
+        if (state.cost.enabled) state.cost.surfaceSeconds += steadySeconds() - t0;
+    }
     p = buffer.data();
+    const std::optional<SurfaceHit>* firstHit = packets ? firstHits.data() : nullptr;
     for (int x = x0; x < x1; ++x) {
         Spectrum sum;
-        for (int s = 0; s < spp; ++s, ++p)
-            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats);
+        for (int s = 0; s < spp; ++s, ++p) {
+            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats, nullptr,
+                                    firstHit);
+            if (firstHit) ++firstHit;
+        }
         store(x, PixelSamples(sampling, strata, x, y).meanOf(sum));
     }
 }

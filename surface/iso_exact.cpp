@@ -171,6 +171,11 @@ Vec3 IsoExactSurface::worldGradient(unsigned brick, const Vec3& u) const {
 
 bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& d, double tMin,
                                      double tMax, double& tHit) const {
+    return intersectPrimitive(brick, WalkRay(o, d), tMin, tMax, tHit);
+}
+
+bool IsoExactSurface::intersectPrimitive(unsigned brick, const WalkRay& ray, double tMin,
+                                         double tMax, double& tHit) const {
     const float* values = &values_[std::size_t(brick) * kBrickValues];
     constexpr int sy = kBrickPoints, sz = kBrickPoints * kBrickPoints;
     const auto corners = [values](int lx, int ly, int lz, double c[8]) {
@@ -184,7 +189,7 @@ bool IsoExactSurface::intersectBrick(unsigned brick, const Vec3& o, const Vec3& 
         c[6] = v[sz + sy];
         c[7] = v[sz + sy + 1];
     };
-    return firstRootInBrick(origins_[brick], cells_[brick], iso_, o, d, tMin, tMax, corners, tHit);
+    return firstRootInBrick(origins_[brick], cells_[brick], iso_, ray, tMin, tMax, corners, tHit);
 }
 
 SurfaceHit IsoExactSurface::shade(const Ray& ray, double t, unsigned primId) const {

@@ -78,6 +78,9 @@ public:
 
     // The Embree user-geometry callbacks (user_geometry.h), in index space.
     const AffineMap& primitiveSpace() const { return map_; }
+    using PrimitiveRay = WalkRay;  // made once per ray (user_geometry.h)
+    bool intersectPrimitive(unsigned brick, const WalkRay& ray, double tMin, double tMax,
+                            double& t) const;
     bool intersectPrimitive(unsigned brick, const Vec3& o, const Vec3& d, double tMin, double tMax,
                             double& t) const {
         return intersectBrick(brick, o, d, tMin, tMax, t);

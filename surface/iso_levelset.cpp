@@ -158,12 +158,17 @@ std::size_t LevelSetSurface::memoryBytes() const {
 
 bool LevelSetSurface::intersectPrimitive(unsigned block, const Vec3& o, const Vec3& d, double tMin,
                                          double tMax, double& t) const {
+    return intersectPrimitive(block, WalkRay(o, d), tMin, tMax, t);
+}
+
+bool LevelSetSurface::intersectPrimitive(unsigned block, const WalkRay& ray, double tMin,
+                                         double tMax, double& t) const {
     const Accessor acc(phi_->tree());
     const openvdb::Coord& origin = origins_[block];
     const auto cellCorners = [&](int lx, int ly, int lz, double c[8]) {
         corners(acc, origin.offsetBy(lx, ly, lz), c);
     };
-    return firstRootInBrick(origin, cells_[block], 0.0, o, d, tMin, tMax, cellCorners, t);
+    return firstRootInBrick(origin, cells_[block], 0.0, ray, tMin, tMax, cellCorners, t);
 }
 
 Vec3 LevelSetSurface::worldGradient(unsigned block, const Vec3& u) const {

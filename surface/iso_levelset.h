@@ -75,6 +75,9 @@ public:
 
     // The Embree user-geometry callbacks (user_geometry.h), in the level set's index space.
     const AffineMap& primitiveSpace() const { return map_; }
+    using PrimitiveRay = WalkRay;  // made once per ray (user_geometry.h)
+    bool intersectPrimitive(unsigned block, const WalkRay& ray, double tMin, double tMax,
+                            double& t) const;
     bool intersectPrimitive(unsigned block, const Vec3& o, const Vec3& d, double tMin, double tMax,
                             double& t) const;
     const std::array<float, 6>& primitiveBounds(unsigned block) const { return bounds_[block]; }

@@ -148,6 +148,56 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Ray& ray) const {
     return hit;
 }
 
+void SurfaceScene::intersect8(const Ray* const* rays, int n, std::optional<SurfaceHit>* out) const {
+    if (!packetsSupported())
+        throw Error("SurfaceScene::intersect8: not for clipped or masked scenes");
+    if (n < 1 || n > 8) throw Error("SurfaceScene::intersect8: 1 to 8 rays");
+    RayContext ctx;
+    rtcInitIntersectContext(&ctx.base);
+    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RayContext::Lane lanes[8];
+    ctx.lanes = lanes;
+    ctx.laneCount = 8;
+    RTCRayHit8 rh;
+    alignas(32) int valid[8];
+    for (int k = 0; k < 8; ++k) {
+        RTCRayHit one;
+        fillEmbreeRay(*rays[std::min(k, n - 1)], one);
+        rh.ray.org_x[k] = one.ray.org_x;
+        rh.ray.org_y[k] = one.ray.org_y;
+        rh.ray.org_z[k] = one.ray.org_z;
+        rh.ray.dir_x[k] = one.ray.dir_x;
+        rh.ray.dir_y[k] = one.ray.dir_y;
+        rh.ray.dir_z[k] = one.ray.dir_z;
+        rh.ray.tnear[k] = one.ray.tnear;
+        rh.ray.tfar[k] = one.ray.tfar;
+        rh.ray.time[k] = one.ray.time;
+        rh.ray.mask[k] = one.ray.mask;
+        rh.ray.id[k] = unsigned(k);  // the lane, for the user geometries (RayContext::lanes)
+        rh.ray.flags[k] = one.ray.flags;
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        valid[k] = k < n ? -1 : 0;
+        if (k < n) lanes[k].ray = rays[k];
+    }
+    rtcIntersect8(valid, scene_.get(), &ctx.base, &rh);
+    for (int k = 0; k < n; ++k) {
+        out[k].reset();
+        const unsigned geomId = rh.hit.geomID[k], primId = rh.hit.primID[k];
+        if (geomId == RTC_INVALID_GEOMETRY_ID) continue;
+        // As intersect(): a user geometry that accepted the final hit left its double distance.
+        double t = rh.ray.tfar[k];
+        if (lanes[k].geomId == geomId && lanes[k].primId == primId) t = lanes[k].tHit;
+        const Ray& ray = *rays[k];
+        if (t < ray.tMin || t > ray.tMax) continue;
+        const int objectId = objectOfGeom_.at(geomId);
+        SurfaceHit hit = objects_[objectId]->shade(ray, t, primId);
+        hit.objectId = objectId;
+        out[k] = hit;
+    }
+}
+
 bool SurfaceScene::occluded(const Ray& ray) const {
     if (!committed_) throw Error("SurfaceScene::occluded: commit() was not called");
     RayContext ctx;

@@ -108,6 +108,24 @@ struct RayContext {
     bool maskKeeps(unsigned geomId, const Vec3& x) const {
         return !masks || geomId >= masks->size() || !(*masks)[geomId] || (*masks)[geomId](x);
     }
+    // The ray in the primitive space of user geometry primitiveRayGeom, made by its first
+    // callback of this query and read by the next (user_geometry.h, primitiveRay): raw storage,
+    // so that this header needs no surface's types. Left uninitialised until then.
+    mutable unsigned primitiveRayGeom = RTC_INVALID_GEOMETRY_ID;
+    alignas(16) mutable unsigned char primitiveRay[128];
+    // A packet's rays (SurfaceScene::intersect8), by Embree ray ID (the lane): each lane's double
+    // ray, its best double hit and its primitive-space ray, as the single-ray fields above are
+    // for one ray. Null for single rays.
+    struct Lane {
+        const Ray* ray = nullptr;
+        double tHit = 0.0;
+        unsigned geomId = RTC_INVALID_GEOMETRY_ID;
+        unsigned primId = RTC_INVALID_GEOMETRY_ID;
+        unsigned primitiveRayGeom = RTC_INVALID_GEOMETRY_ID;
+        alignas(16) unsigned char primitiveRay[128];
+    };
+    Lane* lanes = nullptr;
+    unsigned laneCount = 0;
 };
 
 class SurfaceGeometry {
@@ -138,6 +156,13 @@ public:
     void setMask(int id, std::function<bool(const Vec3&)> keeps);
 
     std::optional<SurfaceHit> intersect(const Ray& ray) const;
+    // The first hits of up to 8 rays traced together (rtcIntersect8: Embree walks its tree once
+    // for the packet, which pays for coherent rays such as a row of camera rays: T1's exact
+    // skull, docs/performance.md). out[k] is what intersect(*rays[k]) returns: the user
+    // geometries search each lane's double ray and keep its nearest double root. Only for
+    // scenes without clips and masks (packetsSupported); n in 1 … 8.
+    void intersect8(const Ray* const* rays, int n, std::optional<SurfaceHit>* out) const;
+    bool packetsSupported() const { return committed_ && !anyClip_ && maskOfGeom_.empty(); }
     bool occluded(const Ray& ray) const;
     // The ray's hits in depth order from one traversal, into `out` (HitList: up to its capacity,
     // and up to the first hit where the product of objectTransmittance[objectId] over the hits so

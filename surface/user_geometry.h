@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <new>
+#include <type_traits>
 
 namespace lobe::user_geometry {
 
@@ -27,6 +29,13 @@ inline float floatAtLeast(double t) {
     return double(f) < t ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
+// The packet lane of lane i (RayContext::lanes, SurfaceScene::intersect8), or null.
+inline RayContext::Lane* packetLane(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx) {
+    if (!ctx || !ctx->lanes) return nullptr;
+    const unsigned id = RTCRayN_id(ray, N, i);
+    return id < ctx->laneCount && ctx->lanes[id].ray ? &ctx->lanes[id] : nullptr;
+}
+
 inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx, Vec3& o, Vec3& d,
                     double& tMin, double& tMax) {
     const double tfar = RTCRayN_tfar(ray, N, i);
@@ -36,6 +45,13 @@ inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx,
         tMin = std::max(0.0, ctx->ray->tMin);
         tMax = std::min(tfar, ctx->ray->tMax);
         if (ctx->geomId != RTC_INVALID_GEOMETRY_ID) tMax = std::min(tMax, ctx->tHit);
+    } else if (const RayContext::Lane* lane = packetLane(ray, N, i, ctx)) {
+        // The same for a packet's lane.
+        o = lane->ray->o;
+        d = lane->ray->d;
+        tMin = std::max(0.0, lane->ray->tMin);
+        tMax = std::min(tfar, lane->ray->tMax);
+        if (lane->geomId != RTC_INVALID_GEOMETRY_ID) tMax = std::min(tMax, lane->tHit);
     } else {
         o = Vec3(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
         d = Vec3(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
@@ -44,20 +60,84 @@ inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx,
     }
 }
 
+// The ray in a surface's primitive space: its origin and direction there, unless the surface
+// names a type of its own (`using PrimitiveRay = …`, constructible from them, with members o
+// and d), which its intersectPrimitive(prim, ray, tMin, tMax, t) then takes (the brick walk's
+// WalkRay, brick_walk.h: what every brick derives from the ray alone, made once per ray).
+struct IndexRay {
+    Vec3 o, d;
+    IndexRay() = default;
+    IndexRay(const Vec3& origin, const Vec3& direction) : o(origin), d(direction) {}
+};
+template <typename Surface, typename = void>
+struct PrimitiveRayOf {
+    using type = IndexRay;
+};
+template <typename Surface>
+struct PrimitiveRayOf<Surface, std::void_t<typename Surface::PrimitiveRay>> {
+    using type = typename Surface::PrimitiveRay;
+};
+template <typename Surface>
+bool intersectPrimitive(const Surface& self, unsigned prim, const IndexRay& r, double tMin,
+                        double tMax, double& t) {
+    return self.intersectPrimitive(prim, r.o, r.d, tMin, tMax, t);
+}
+template <typename Surface, typename PrimitiveRay>
+bool intersectPrimitive(const Surface& self, unsigned prim, const PrimitiveRay& r, double tMin,
+                        double tMax, double& t) {
+    return self.intersectPrimitive(prim, r, tMin, tMax, t);
+}
+
+// The ray (o, d) in the primitive space of `self`. A single ray with its double ray in the
+// context (SurfaceScene's queries) keeps it in the context for the geometry's next primitive
+// (RayContext::primitiveRay: Embree calls a geometry's primitives of one ray in turn); others are
+// made in `local`. Either way the same arithmetic, so the same numbers.
+template <typename Surface>
+const typename PrimitiveRayOf<Surface>::type& primitiveRay(
+    const Surface& self, unsigned N, const RayContext* ctx, RayContext::Lane* lane, unsigned geomId,
+    const Vec3& o, const Vec3& d, typename PrimitiveRayOf<Surface>::type& local) {
+    using PrimitiveRay = typename PrimitiveRayOf<Surface>::type;
+    static_assert(sizeof(PrimitiveRay) <= sizeof(RayContext::primitiveRay) &&
+                      sizeof(PrimitiveRay) <= sizeof(RayContext::Lane::primitiveRay) &&
+                      alignof(PrimitiveRay) <= alignof(RayContext::Lane) &&
+                      alignof(PrimitiveRay) <= alignof(RayContext) &&
+                      std::is_trivially_destructible_v<PrimitiveRay>,
+                  "RayContext::primitiveRay holds the primitive ray");
+    const AffineMap& space = self.primitiveSpace();
+    if (N == 1 && ctx && ctx->ray) {
+        auto* cached = std::launder(reinterpret_cast<PrimitiveRay*>(ctx->primitiveRay));
+        if (ctx->primitiveRayGeom != geomId) {
+            new (ctx->primitiveRay) PrimitiveRay(space.toIndex(o), space.directionToIndex(d));
+            ctx->primitiveRayGeom = geomId;
+        }
+        return *cached;
+    }
+    if (lane) {
+        auto* cached = std::launder(reinterpret_cast<PrimitiveRay*>(lane->primitiveRay));
+        if (lane->primitiveRayGeom != geomId) {
+            new (lane->primitiveRay) PrimitiveRay(space.toIndex(o), space.directionToIndex(d));
+            lane->primitiveRayGeom = geomId;
+        }
+        return *cached;
+    }
+    local = PrimitiveRay(space.toIndex(o), space.directionToIndex(d));
+    return local;
+}
+
 // The first root in [tMin, tMax] that lies in one of the clip's kept intervals (core/clip.h;
 // all of [tMin, tMax] without a clip): the primitive is searched inside each interval in turn,
 // so a root cut away never hides one behind it.
 // With a mask (RayContext::masks) a root the mask refuses is passed over and the search goes on
 // behind it.
-template <typename Surface>
-bool intersectClipped(const Surface& self, unsigned prim, const Vec3& o, const Vec3& d, double tMin,
+template <typename Surface, typename PrimitiveRay>
+bool intersectClipped(const Surface& self, unsigned prim, const PrimitiveRay& r, double tMin,
                       double tMax, const ClipIntervals* clip, double& t,
                       const RayContext* ctx = nullptr, unsigned geomId = 0) {
     const bool masked =
         ctx && ctx->masks && ctx->ray && geomId < ctx->masks->size() && (*ctx->masks)[geomId];
     const auto search = [&](double a, double b) {
         for (int guard = 0; guard < 1024 && a <= b; ++guard) {
-            if (!self.intersectPrimitive(prim, o, d, a, b, t)) return false;
+            if (!intersectPrimitive(self, prim, r, a, b, t)) return false;
             if (!masked || ctx->maskKeeps(geomId, ctx->ray->at(t))) return true;
             a = t + 1e-9 * (1.0 + std::abs(t));
         }
@@ -95,8 +175,9 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
         Vec3 o, d;
         double tMin, tMax;
         laneRay(ray, args->N, i, ctx, o, d, tMin, tMax);
-        const Vec3 oi = self->primitiveSpace().toIndex(o),
-                   di = self->primitiveSpace().directionToIndex(d);
+        RayContext::Lane* lane = args->N == 1 ? nullptr : packetLane(ray, args->N, i, ctx);
+        typename PrimitiveRayOf<Surface>::type local;
+        const auto& pr = primitiveRay(*self, args->N, ctx, lane, args->geomID, o, d, local);
         double t;
         const ClipIntervals* clip = args->N == 1 && ctx ? ctx->clipOf(args->geomID) : nullptr;
         if (args->N == 1 && ctx && ctx->collector) {
@@ -106,7 +187,7 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
             HitList& list = *ctx->collector;
             double a = tMin;
             for (int guard = 0; guard < 128 && a <= std::min(tMax, list.limit()); ++guard) {
-                if (!intersectClipped(*self, args->primID, oi, di, a, std::min(tMax, list.limit()),
+                if (!intersectClipped(*self, args->primID, pr, a, std::min(tMax, list.limit()),
                                       clip, t, ctx, args->geomID))
                     break;
                 list.add(t, args->geomID, args->primID);
@@ -117,7 +198,7 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
                     static_cast<float>(list.limit()), std::numeric_limits<float>::infinity());
             continue;
         }
-        if (!intersectClipped(*self, args->primID, oi, di, tMin, tMax, clip, t,
+        if (!intersectClipped(*self, args->primID, pr, tMin, tMax, clip, t,
                               args->N == 1 ? ctx : nullptr, args->geomID))
             continue;
         // No geometric normal: nothing reads Embree's Ng (shade() computes the shading normal
@@ -138,6 +219,10 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
             ctx->tHit = t;
             ctx->geomId = args->geomID;
             ctx->primId = args->primID;
+        } else if (lane) {
+            lane->tHit = t;
+            lane->geomId = args->geomID;
+            lane->primId = args->primID;
         }
     }
 }
@@ -151,10 +236,12 @@ void occluded(const RTCOccludedFunctionNArguments* args) {
         Vec3 o, d;
         double tMin, tMax;
         laneRay(args->ray, args->N, i, ctx, o, d, tMin, tMax);
+        RayContext::Lane* lane = args->N == 1 ? nullptr : packetLane(args->ray, args->N, i, ctx);
+        typename PrimitiveRayOf<Surface>::type local;
+        const auto& pr = primitiveRay(*self, args->N, ctx, lane, args->geomID, o, d, local);
         double t;
         const ClipIntervals* clip = args->N == 1 && ctx ? ctx->clipOf(args->geomID) : nullptr;
-        if (intersectClipped(*self, args->primID, self->primitiveSpace().toIndex(o),
-                             self->primitiveSpace().directionToIndex(d), tMin, tMax, clip, t,
+        if (intersectClipped(*self, args->primID, pr, tMin, tMax, clip, t,
                              args->N == 1 ? ctx : nullptr, args->geomID))
             RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
     }

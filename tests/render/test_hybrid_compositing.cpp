@@ -330,6 +330,62 @@ TEST(HybridCompositing, RenderIsThreadCountInvariantAndFinite) {
     }
 }
 
+// Opaque surfaces only, no backdrop: the pixel loop finds the camera rays' first hits 8 at a time
+// (Integrator::firstHitsInPackets, SurfaceScene::intersect8) and hands them to trace(); every
+// pixel must equal renderPixel's, which traces its samples one at a time.
+TEST(HybridCompositing, OpaqueSurfacesFoundInPacketsGiveTheSamePixels) {
+    {
+        const RenderScene translucent(sceneOf({plane(20.3, 0.5, 0.9, "[1, 0.5, 0.25]")}, 0.25),
+                                      false);
+        EXPECT_FALSE(Integrator(translucent.scene()).firstHitsInPackets());
+        const RenderScene withVolume(
+            sceneOf({plane(20.3, 1.0, 0.9, "[1, 0.5, 0.25]"), slab(0.05, 0.4, "[0.2, 1, 0.5]", 0)},
+                    0.25),
+            false);
+        EXPECT_FALSE(Integrator(withVolume.scene()).firstHitsInPackets());
+    }
+    // Without and with the backdrop (the first search ends where the ray meets it:
+    // Integrator::firstSurfaceSegment), seen from above (sceneOf's camera: the upper plane fills
+    // the image) and obliquely (both planes, their sides and what lies around them).
+    for (const bool backdrop : {false, true})
+        for (const bool oblique : {false, true}) {
+            SceneSpec spec =
+                sceneOf({plane(20.3, 1.0, 0.9, "[1, 0.5, 0.25]"), plane(10, 1.0, 1.0, "[0, 0, 1]")},
+                        0.25, backdrop);
+            if (oblique) {
+                spec.cameraPosition = Vec3(60, -40, 120);
+                spec.cameraTarget = Vec3(1.5, 1.5, 20);
+                spec.cameraUp = Vec3(0, 0, 1);
+                spec.fovDegrees = 40;
+            }
+            const RenderScene scene(spec, false);
+            EXPECT_TRUE(Integrator(scene.scene()).firstHitsInPackets());
+            RenderOptions one, two;
+            one.threads = 1;
+            two.threads = 2;
+            one.progress = two.progress = false;
+            RenderStats stats;
+            const Film image = scene.render(two, &stats);
+            const Film single = scene.render(one);
+            EXPECT_GT(stats.surfaceHits, 0);
+            size_t lit = 0;
+            for (int y = 0; y < image.height(); ++y)
+                for (int x = 0; x < image.width(); ++x) {
+                    const Spectrum want = scene.renderPixel(x, y);
+                    lit += want.maxValue() > 0 ? 1 : 0;
+                    for (int k = 0; k < kBandCount; ++k) {
+                        EXPECT_EQ(image.at(x, y)[k], want[k])
+                            << x << " " << y << " backdrop " << backdrop << " oblique " << oblique;
+                        EXPECT_EQ(single.at(x, y)[k], want[k]) << x << " " << y;
+                    }
+                }
+            if (!oblique || backdrop) {
+                EXPECT_EQ(lit, size_t(image.width()) * size_t(image.height()))
+                    << "backdrop " << backdrop;
+            }
+        }
+}
+
 // The same at a step below 0.075 voxel with the cubic B-spline, read through each ray's
 // polynomial per cell (GridReconstructor::bsplineOnRay): every march builds its own, so what a
 // thread rendered before cannot change a pixel.
