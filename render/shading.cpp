@@ -1,5 +1,7 @@
 #include "render/shading.h"
 
+#include "render/light_directions.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -10,46 +12,79 @@ namespace {
 // The lights of one point as forEachLightInFrame (core/light.h) walks them, bit for bit: the
 // lights not at the point and above its surface, with wi the unit direction to the light in the
 // local frame and g = cos θi / d² (× the shadow transmittance, lights it leaves at 0 dropped).
-// They are worked out for a chunk of lights before any BRDF is evaluated, so that the square
-// roots and divisions of different lights overlap; fn(light index, wi, g) is then called in the
-// lights' order. Nothing when the viewer is below the surface (wo.z ≤ 0).
+// They are worked out for up to LightDirections::kMaxLights lights at once with SIMD across the
+// lights (render/light_directions.h) before any BRDF is evaluated; fn(light index, wi, g) is then
+// called in the lights' order. Nothing when the viewer is below the surface (wo.z ≤ 0).
 template <class Fn>
 inline void forEachLitLight(const std::vector<PointLight>& lights, const Frame& frame,
                             const Vec3& position, const Vec3& wo, const double* shadow, Fn&& fn) {
     if (!(wo.z > 0.0)) return;
-    constexpr size_t kChunk = 8;
-    const size_t n = lights.size();
-    for (size_t start = 0; start < n; start += kChunk) {
-        const size_t end = std::min(n, start + kChunk);
-        size_t index[kChunk];
-        Vec3 wi[kChunk];
-        double g[kChunk];
-        size_t count = 0;
-        for (size_t i = start; i < end; ++i) {
-            const Vec3 toLight = lights[i].position - position;
-            const double d2 = toLight.dot(toLight);
-            if (!(d2 > 0.0)) continue;
-            const double s = std::sqrt(d2);
-            const Vec3 l(toLight.x / s, toLight.y / s, toLight.z / s);
-            const Vec3 w(l.dot(frame.t), l.dot(frame.b), l.dot(frame.n));
-            if (!(w.z > 0.0)) continue;
-            double gi = w.z / d2;
-            if (shadow) {
-                gi *= shadow[i];
-                if (!(gi > 0.0)) continue;
-            }
-            index[count] = i;
-            wi[count] = w;
-            g[count] = gi;
-            ++count;
+    constexpr int kChunk = LightDirections::kMaxLights;
+    const int n = int(lights.size());
+    for (int start = 0; start < n; start += kChunk) {
+        const int count = std::min(n - start, kChunk);
+        LightDirections dirs;
+        for (int k = 0; k < kChunk; ++k) {  // the padding lanes at the origin
+            const Vec3 p = k < count ? lights[size_t(start + k)].position : Vec3(0.0);
+            dirs.px[k] = p.x;
+            dirs.py[k] = p.y;
+            dirs.pz[k] = p.z;
         }
-        for (size_t k = 0; k < count; ++k) fn(index[k], wi[k], g[k]);
+        computeLightDirections(dirs, count, position, frame);
+        for (int k = 0; k < count; ++k) {
+            if (!(dirs.d2[k] > 0.0) || !(dirs.wz[k] > 0.0)) continue;
+            double g = dirs.g[k];
+            const size_t light = size_t(start + k);
+            if (shadow) {
+                g *= shadow[light];
+                if (!(g > 0.0)) continue;
+            }
+            fn(light, Vec3(dirs.wx[k], dirs.wy[k], dirs.wz[k]), g);
+        }
     }
 }
 
-// The light loops of directLighting and shadeTerms, the material's model chosen once per point
-// (materials/brdf.h, visitAtView); onEvaluation() is called once per BRDF evaluation (a no-op
-// except for `lobe cost`'s counting).
+// The light loops of directLighting and shadeTerms for one model's view (materials/brdf.h,
+// ModelAtView): one function per model, chosen once per point by visitAtView, with the model's
+// eval inlined and the sums kept in registers. onEvaluation() is called once per BRDF evaluation
+// (a no-op except for `lobe cost`'s counting).
+//   directLighting: Σ (kd/π + f_s · scale) · I · g
+template <class View, class OnEvaluation>
+Spectrum directLightingLoop(View& specular, const Material& material, const Frame& frame,
+                            const Vec3& position, const Vec3& wo,
+                            const std::vector<PointLight>& lights, const double* shadow,
+                            OnEvaluation& onEvaluation) {
+    const Spectrum diffuse = material.kd * kInvPi;
+    Spectrum radiance;
+    forEachLitLight(lights, frame, position, wo, shadow,
+                    [&](size_t light, const Vec3& wi, double g) {
+                        onEvaluation();
+                        Spectrum f = diffuse;
+                        if (material.specularOn) f += specular.eval(wi) * material.specularScale;
+                        radiance += f * lights[light].intensity * g;
+                    });
+    return radiance;
+}
+
+//   shadeTerms: Σ kd/π · I · g and Σ f_s · scale · I · g apart
+template <class View, class OnEvaluation>
+ShadingTerms shadeTermsLoop(View& specular, const Material& m, const Frame& frame,
+                            const Vec3& position, const Vec3& wo,
+                            const std::vector<PointLight>& lights, const double* shadow,
+                            OnEvaluation& onEvaluation) {
+    const Spectrum diffuse = m.kd * kInvPi;
+    Spectrum lambert, spec;
+    forEachLitLight(lights, frame, position, wo, shadow,
+                    [&](size_t light, const Vec3& wi, double g) {
+                        onEvaluation();
+                        const Spectrum& intensity = lights[light].intensity;
+                        lambert += diffuse * intensity * g;
+                        if (m.specularOn)
+                            spec += specular.eval(wi) * m.specularScale * intensity * g;
+                    });
+    return {lambert, spec};
+}
+
 template <class OnEvaluation>
 Spectrum directLightingImpl(const Material& material, const Frame& frameIn, const Vec3& position,
                             const Vec3& toViewer, const std::vector<PointLight>& lights,
@@ -57,18 +92,9 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
                             const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     const Vec3 wo = frame.toLocal(toViewer);
-    const Spectrum diffuse = material.kd * kInvPi;
     return visitAtView(material.specular, wo, [&](auto& specular) {
-        Spectrum radiance;
-        forEachLitLight(lights, frame, position, wo, shadow,
-                        [&](size_t light, const Vec3& wi, double g) {
-                            onEvaluation();
-                            Spectrum f = diffuse;
-                            if (material.specularOn)
-                                f += specular.eval(wi) * material.specularScale;
-                            radiance += f * lights[light].intensity * g;
-                        });
-        return radiance;
+        return directLightingLoop(specular, material, frame, position, wo, lights, shadow,
+                                  onEvaluation);
     });
 }
 
@@ -106,17 +132,9 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
     }
     const Frame frame = facingViewer(point.frame, toViewer);
     const Vec3 wo = frame.toLocal(toViewer);
-    const Spectrum diffuse = m.kd * kInvPi;
-    visitAtView(m.specular, wo, [&](auto& specular) {
-        forEachLitLight(lights, frame, point.position, wo, point.shadow,
-                        [&](size_t light, const Vec3& wi, double g) {
-                            onEvaluation();
-                            const Spectrum& intensity = lights[light].intensity;
-                            terms.lambert += diffuse * intensity * g;
-                            if (m.specularOn)
-                                terms.specular +=
-                                    specular.eval(wi) * m.specularScale * intensity * g;
-                        });
+    terms = visitAtView(m.specular, wo, [&](auto& specular) {
+        return shadeTermsLoop(specular, m, frame, point.position, wo, lights, point.shadow,
+                              onEvaluation);
     });
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
