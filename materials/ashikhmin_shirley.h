@@ -23,14 +23,29 @@ struct AshikhminShirley {
     static const ParamTable& paramTable();
     static AshikhminShirley fromParams(const ParamValues& p);
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;
+    // The normalisation sqrt((nu+1)(nv+1))/(8π) per band, and eval with it given: eval(wi, wo) is
+    // eval(wi, wo, norms()) (ModelAtView, materials/brdf.h, works the norms out once per point).
+    Spectrum norms() const;
+    Spectrum eval(const Vec3& wi, const Vec3& wo, const Spectrum& norm) const;
 
     Spectrum rs{0.05};
     Spectrum nu{10.0};
     Spectrum nv{1000.0};
 };
 
-// Inline: render/shading.cpp evaluates it in its light loop (materials/brdf.h, ModelAtView).
+inline Spectrum AshikhminShirley::norms() const {
+    Spectrum norm;
+    for (int b = 0; b < kBandCount; ++b)
+        norm[b] = std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
+    return norm;
+}
+
 inline Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
+    return eval(wi, wo, norms());
+}
+
+// Inline: render/shading.cpp evaluates it in its light loop (materials/brdf.h, ModelAtView).
+inline Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo, const Spectrum& norm) const {
     Vec3 h;
     if (!aboveHorizon(wi, wo) || !halfVector(wi, wo, h)) return Spectrum(0.0);
     const double hx2 = h.x * h.x, hy2 = h.y * h.y;
@@ -43,7 +58,6 @@ inline Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
     if (!(hDotWi > 0.0) || !(denom > 0.0)) return Spectrum(0.0);
     Spectrum f;
     double lastE = -1.0, power = 0.0;  // one pow per distinct exponent (bands usually share it)
-    double lastNu = -1.0, lastNv = -1.0, norm = 0.0;  // and one sqrt per distinct (nu, nv)
     for (int b = 0; b < kBandCount; ++b) {
         // At h = n, h.z^e = 1 for any e: take e = 1 (h.z = 1) instead of dividing 0 by 0.
         const double e = sin2 > 0.0 ? (nu[b] * hx2 + nv[b] * hy2) / sin2 : 1.0;
@@ -51,12 +65,7 @@ inline Spectrum AshikhminShirley::eval(const Vec3& wi, const Vec3& wo) const {
             power = std::pow(h.z, e);
             lastE = e;
         }
-        if (nu[b] != lastNu || nv[b] != lastNv) {
-            lastNu = nu[b];
-            lastNv = nv[b];
-            norm = std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
-        }
-        f[b] = norm * power / denom * fresnelSchlick(rs[b], hDotWi);
+        f[b] = norm[b] * power / denom * fresnelSchlick(rs[b], hDotWi);
     }
     return f;
 }

@@ -86,6 +86,21 @@ private:
     unsigned n_;
 };
 
+// Ashikhmin–Shirley: the normalisation per band once per point (a square root and a division
+// the model's eval makes per evaluation).
+template <>
+class ModelAtView<AshikhminShirley> {
+public:
+    ModelAtView(const AshikhminShirley& model, const Vec3& wo)
+        : model_(model), wo_(wo), norm_(model.norms()) {}
+    Spectrum eval(const Vec3& wi) const { return clampBrdfValue(model_.eval(wi, wo_, norm_)); }
+
+private:
+    const AshikhminShirley& model_;
+    Vec3 wo_;
+    Spectrum norm_;
+};
+
 // He–Torrance: the table's lookup when the model has one (he_torrance_table.h); otherwise the
 // series with K(θo) and S(θo) (an erfc and an exp per distinct band) computed once, on the first
 // eval.
