@@ -34,9 +34,11 @@ struct AshikhminShirley {
 };
 
 inline Spectrum AshikhminShirley::norms() const {
-    Spectrum norm;
+    Spectrum norm;  // one sqrt per distinct (nu, nv): bands usually share them
     for (int b = 0; b < kBandCount; ++b)
-        norm[b] = std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
+        norm[b] = b > 0 && nu[b] == nu[b - 1] && nv[b] == nv[b - 1]
+                      ? norm[b - 1]
+                      : std::sqrt((nu[b] + 1.0) * (nv[b] + 1.0)) / (8.0 * kPi);
     return norm;
 }
 
