@@ -26,4 +26,23 @@ struct Frame {
     static Frame fromNormal(const Vec3& n);
 };
 
+// Inline: every shaded surface hit and volume sample builds one (render/integrator.cpp).
+inline Frame Frame::fromNormalAndAxis(const Vec3& n, const Vec3& axis, const Vec3& fallbackAxis,
+                                      double minSine) {
+    // |axis × n| ≥ minSine, without the square root where |axis × n|² > 4·minSine² (the root is
+    // then above 2·minSine whatever its rounding): the same choice as comparing length().
+    const Vec3 c = axis.cross(n);
+    const double c2 = c.length2();
+    const bool useAxis = c2 > 4.0 * minSine * minSine || c.length() >= minSine;
+    const Vec3& a = useAxis ? axis : fallbackAxis;
+    Vec3 t = a - n * a.dot(n);
+    const double len = t.length();
+    if (!(len > 1e-12)) return fromNormal(n);  // both axes parallel to n: any tangent will do
+    Frame f;
+    f.n = n;
+    f.t = t / len;
+    f.b = n.cross(f.t);
+    return f;
+}
+
 }  // namespace lobe

@@ -23,11 +23,8 @@ inline double cosAlpha(const Vec3& wi, const Vec3& wo) {
     return std::max(0.0, mirrorLocal(wi).dot(wo));
 }
 
-// x^e for x ≥ 0. A whole exponent up to 1024 (Phong's usual shininess) by repeated squaring,
-// ≤ 20 products, within ~10 ulps of std::pow and about 5× cheaper; any other by std::pow.
-inline double powerOf(double x, double e) {
-    if (!(e >= 0.0 && e <= 1024.0 && e == std::floor(e))) return std::pow(x, e);
-    unsigned n = static_cast<unsigned>(e);
+// x^n for a whole n by repeated squaring (≤ 20 products for n ≤ 1024).
+inline double powerOfWhole(double x, unsigned n) {
     double result = 1.0, square = x;
     while (n) {
         if (n & 1u) result *= square;
@@ -35,6 +32,16 @@ inline double powerOf(double x, double e) {
         if (n) square *= square;
     }
     return result;
+}
+
+// The exponents powerOf takes by repeated squaring: whole, 0 … 1024.
+inline bool isWholeExponent(double e) { return e >= 0.0 && e <= 1024.0 && e == std::floor(e); }
+
+// x^e for x ≥ 0. A whole exponent up to 1024 (Phong's usual shininess) by repeated squaring,
+// ≤ 20 products, within ~10 ulps of std::pow and about 5× cheaper; any other by std::pow.
+inline double powerOf(double x, double e) {
+    if (!isWholeExponent(e)) return std::pow(x, e);
+    return powerOfWhole(x, static_cast<unsigned>(e));
 }
 
 // Unit half vector h = (wi + wo)/|wi + wo|; returns false when wi = −wo (h undefined).

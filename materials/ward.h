@@ -28,4 +28,27 @@ struct Ward {
     Spectrum alphaY{0.3};
 };
 
+// Inline: render/shading.cpp evaluates it in its light loop (materials/brdf.h, ModelAtView).
+inline Spectrum Ward::eval(const Vec3& wi, const Vec3& wo) const {
+    if (!aboveHorizon(wi, wo)) return Spectrum(0.0);
+    const Vec3 h = wi + wo;  // h.z > 0 because both directions are above the horizon
+    const double tx = h.x / h.z, ty = h.y / h.z;
+    const double root = std::sqrt(wi.z * wo.z);
+    Spectrum f;
+    // One exp and one normalisation per distinct (αx, αy): bands usually share them, and equal
+    // inputs give the same bits, so sharing changes no value.
+    double lastAx = -1.0, lastAy = -1.0, gauss = 0.0, norm = 0.0;
+    for (int b = 0; b < kBandCount; ++b) {
+        const double ax = alphaX[b], ay = alphaY[b];
+        if (ax != lastAx || ay != lastAy) {
+            lastAx = ax;
+            lastAy = ay;
+            gauss = std::exp(-((tx / ax) * (tx / ax) + (ty / ay) * (ty / ay)));
+            norm = 4.0 * kPi * ax * ay * root;
+        }
+        f[b] = rhoS[b] * gauss / norm;
+    }
+    return f;
+}
+
 }  // namespace lobe

@@ -1,32 +1,101 @@
 #include "render/shading.h"
 
+#include "render/light_directions.h"
+
+#include <algorithm>
+#include <cmath>
+
 namespace lobe {
 
 namespace {
 
-// The light loops of directLighting and shadeTerms; onEvaluation() is called once per BRDF
-// evaluation (a no-op except for `lobe cost`'s counting).
+// The lights of one point as forEachLightInFrame (core/light.h) walks them, bit for bit: the
+// lights not at the point and above its surface, with wi the unit direction to the light in the
+// local frame and g = cos θi / d² (× the shadow transmittance, lights it leaves at 0 dropped).
+// They are worked out for up to LightDirections::kMaxLights lights at once with SIMD across the
+// lights (render/light_directions.h) before any BRDF is evaluated; fn(light index, wi, g) is then
+// called in the lights' order. Nothing when the viewer is below the surface (wo.z ≤ 0).
+template <class Fn>
+inline void forEachLitLight(const std::vector<PointLight>& lights, const Frame& frame,
+                            const Vec3& position, const Vec3& wo, const double* shadow, Fn&& fn) {
+    if (!(wo.z > 0.0)) return;
+    constexpr int kChunk = LightDirections::kMaxLights;
+    const int n = int(lights.size());
+    for (int start = 0; start < n; start += kChunk) {
+        const int count = std::min(n - start, kChunk);
+        LightDirections dirs;
+        for (int k = 0; k < kChunk; ++k) {  // the padding lanes at the origin
+            const Vec3 p = k < count ? lights[size_t(start + k)].position : Vec3(0.0);
+            dirs.px[k] = p.x;
+            dirs.py[k] = p.y;
+            dirs.pz[k] = p.z;
+        }
+        computeLightDirections(dirs, count, position, frame);
+        for (int k = 0; k < count; ++k) {
+            if (!(dirs.d2[k] > 0.0) || !(dirs.wz[k] > 0.0)) continue;
+            double g = dirs.g[k];
+            const size_t light = size_t(start + k);
+            if (shadow) {
+                g *= shadow[light];
+                if (!(g > 0.0)) continue;
+            }
+            fn(light, Vec3(dirs.wx[k], dirs.wy[k], dirs.wz[k]), g);
+        }
+    }
+}
+
+// The light loops of directLighting and shadeTerms for one model's view (materials/brdf.h,
+// ModelAtView): one function per model, chosen once per point by visitAtView, with the model's
+// eval inlined and the sums kept in registers. onEvaluation() is called once per BRDF evaluation
+// (a no-op except for `lobe cost`'s counting).
+//   directLighting: Σ (kd/π + f_s · scale) · I · g
+template <class View, class OnEvaluation>
+Spectrum directLightingLoop(View& specular, const Material& material, const Frame& frame,
+                            const Vec3& position, const Vec3& wo,
+                            const std::vector<PointLight>& lights, const double* shadow,
+                            OnEvaluation& onEvaluation) {
+    const Spectrum diffuse = material.kd * kInvPi;
+    Spectrum radiance;
+    forEachLitLight(lights, frame, position, wo, shadow,
+                    [&](size_t light, const Vec3& wi, double g) {
+                        onEvaluation();
+                        Spectrum f = diffuse;
+                        if (material.specularOn) f += specular.eval(wi) * material.specularScale;
+                        radiance += f * lights[light].intensity * g;
+                    });
+    return radiance;
+}
+
+//   shadeTerms: Σ kd/π · I · g and Σ f_s · scale · I · g apart
+template <class View, class OnEvaluation>
+ShadingTerms shadeTermsLoop(View& specular, const Material& m, const Frame& frame,
+                            const Vec3& position, const Vec3& wo,
+                            const std::vector<PointLight>& lights, const double* shadow,
+                            OnEvaluation& onEvaluation) {
+    const Spectrum diffuse = m.kd * kInvPi;
+    Spectrum lambert, spec;
+    forEachLitLight(lights, frame, position, wo, shadow,
+                    [&](size_t light, const Vec3& wi, double g) {
+                        onEvaluation();
+                        const Spectrum& intensity = lights[light].intensity;
+                        lambert += diffuse * intensity * g;
+                        if (m.specularOn)
+                            spec += specular.eval(wi) * m.specularScale * intensity * g;
+                    });
+    return {lambert, spec};
+}
+
 template <class OnEvaluation>
 Spectrum directLightingImpl(const Material& material, const Frame& frameIn, const Vec3& position,
                             const Vec3& toViewer, const std::vector<PointLight>& lights,
                             bool twoSided, OnEvaluation&& onEvaluation,
                             const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
-    Spectrum radiance;
-    BrdfAtView specular(material.specular, frame.toLocal(toViewer));
-    forEachLightInFrame(lights, frame, position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3&, double g) {
-                            if (shadow) {
-                                g *= shadow[&light - lights.data()];
-                                if (!(g > 0.0)) return;
-                            }
-                            onEvaluation();
-                            Spectrum f = material.kd * kInvPi;
-                            if (material.specularOn)
-                                f += specular.eval(wi) * material.specularScale;
-                            radiance += f * light.intensity * g;
-                        });
-    return radiance;
+    const Vec3 wo = frame.toLocal(toViewer);
+    return visitAtView(material.specular, wo, [&](auto& specular) {
+        return directLightingLoop(specular, material, frame, position, wo, lights, shadow,
+                                  onEvaluation);
+    });
 }
 
 template <class OnEvaluation>
@@ -62,19 +131,11 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
         return terms;
     }
     const Frame frame = facingViewer(point.frame, toViewer);
-    BrdfAtView specular(m.specular, frame.toLocal(toViewer));
-    forEachLightInFrame(lights, frame, point.position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3&, double g) {
-                            if (point.shadow) {
-                                g *= point.shadow[&light - lights.data()];
-                                if (!(g > 0.0)) return;
-                            }
-                            onEvaluation();
-                            terms.lambert += m.kd * kInvPi * light.intensity * g;
-                            if (m.specularOn)
-                                terms.specular +=
-                                    specular.eval(wi) * m.specularScale * light.intensity * g;
-                        });
+    const Vec3 wo = frame.toLocal(toViewer);
+    terms = visitAtView(m.specular, wo, [&](auto& specular) {
+        return shadeTermsLoop(specular, m, frame, point.position, wo, lights, point.shadow,
+                              onEvaluation);
+    });
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
     return terms;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace lobe {
 
 TEST(Frame, FromNormalIsOrthonormalEverywhere) {
@@ -29,6 +31,26 @@ TEST(Frame, TangentFollowsProjectedAxisWithFallback) {
     const Vec3 local = f.toLocal(Vec3(0.2, 0.3, 0.4));
     const Vec3 back = f.toWorld(local);
     EXPECT_NEAR((back - Vec3(0.2, 0.3, 0.4)).length(), 0.0, 1e-12);
+}
+
+// The axis is used exactly where |axis × n| ≥ minSine as length() rounds it (frame.h skips the
+// square root far from the threshold): axes swept across the threshold in steps of a few ulps
+// of the angle, each choice checked against the comparison of length() itself.
+TEST(Frame, AxisOrFallbackChosenAsTheRoundedLengthCompares) {
+    const Vec3 n(0, 0, 1), fallback(1, 0, 0);
+    int axisUsed = 0, fallbackUsed = 0;
+    for (const double minSine : {1e-3, 0.25, 1e-6})
+        for (int k = -2000; k <= 2000; ++k) {
+            const double s = minSine * (1.0 + k * 1e-15);
+            const Vec3 axis(0.0, s, std::sqrt(1.0 - s * s));  // |axis × n| = s up to rounding
+            const bool expected = axis.cross(n).length() >= minSine;
+            const Frame f = Frame::fromNormalAndAxis(n, axis, fallback, minSine);
+            EXPECT_EQ(f.t.y == 1.0, expected) << minSine << " " << k;
+            EXPECT_EQ(f.t.x == 1.0, !expected) << minSine << " " << k;
+            ++(expected ? axisUsed : fallbackUsed);
+        }
+    EXPECT_GT(axisUsed, 1000);
+    EXPECT_GT(fallbackUsed, 1000);
 }
 
 TEST(Camera, CentreRayLooksAtTargetAndCornersSpanTheFieldOfView) {

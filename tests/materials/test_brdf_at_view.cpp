@@ -1,7 +1,8 @@
-// BrdfAtView (materials/brdf.h): f(·, wo) for one viewer direction and several lights equals
+// ModelAtView (materials/brdf.h): f(·, wo) for one viewer direction and several lights equals
 // evalBrdf(brdf, wi, wo) bit for bit (tolerance 0) for every model, and the per-band sharing
 // inside Ward, Ashikhmin–Shirley and He–Torrance (one exp / sqrt / D per distinct band
 // parameters) gives each band the value of a model whose every band has that band's parameters.
+#include "materials/he_torrance_table.h"
 #include "materials/registry.h"
 
 #include <gtest/gtest.h>
@@ -48,28 +49,47 @@ std::vector<std::vector<std::string>> settingsFor(const std::string& model) {
         return {{},
                 {"sigma0_over_lambda=1,1,0.3", "tau_over_lambda=10,10,3"},
                 {"sigma0_over_lambda=0.5,2,0.5", "eta=1.6,1.4,1.6"}};
+    if (model == "phong")  // whole (repeated squaring), fractional, past 1024, and per band
+        return {{}, {"exponent=30"}, {"exponent=12.5"}, {"exponent=2000"}, {"exponent=10,10,40"}};
     return {{}};
 }
 
-TEST(BrdfAtView, EqualsEvalBrdfBitForBitForEveryModel) {
+TEST(ModelAtView, EqualsEvalBrdfBitForBitForEveryModel) {
     const std::vector<Vec3> wos = viewers(), wis = lights();
     int compared = 0;
     for (const BrdfModelInfo& info : brdfModels())
         for (const std::vector<std::string>& settings : settingsFor(info.name)) {
             const Brdf brdf = makeBrdf(info.name, settings);
-            for (const Vec3& wo : wos) {
-                BrdfAtView view(brdf, wo);  // one per viewer, reused across all lights
-                for (const Vec3& wi : wis) {
-                    const Spectrum a = view.eval(wi), b = evalBrdf(brdf, wi, wo);
-                    for (int band = 0; band < kBandCount; ++band)
-                        EXPECT_TRUE(sameBits(a[band], b[band]))
-                            << info.name << " band " << band << ": " << a[band] << " vs "
-                            << b[band];
-                    ++compared;
-                }
-            }
+            for (const Vec3& wo : wos)
+                // One view per viewer, reused across all lights.
+                visitAtView(brdf, wo, [&](auto& view) {
+                    for (const Vec3& wi : wis) {
+                        const Spectrum a = view.eval(wi), b = evalBrdf(brdf, wi, wo);
+                        for (int band = 0; band < kBandCount; ++band)
+                            EXPECT_TRUE(sameBits(a[band], b[band]))
+                                << info.name << " band " << band << ": " << a[band] << " vs "
+                                << b[band];
+                        ++compared;
+                    }
+                });
         }
     EXPECT_GT(compared, 10 * 18 * 28);
+}
+
+// He–Torrance read from its table (he_torrance_table.h), as full renders and previews read it.
+TEST(ModelAtView, HeTorranceWithATableEqualsEvalBrdf) {
+    HeTorrance model = std::get<HeTorrance>(makeBrdf("he_torrance", {}));
+    model.table = HeTorranceTable::build(model);
+    ASSERT_TRUE(model.table);
+    const Brdf brdf = model;
+    for (const Vec3& wo : viewers())
+        visitAtView(brdf, wo, [&](auto& view) {
+            for (const Vec3& wi : lights()) {
+                const Spectrum a = view.eval(wi), b = evalBrdf(brdf, wi, wo);
+                for (int band = 0; band < kBandCount; ++band)
+                    EXPECT_TRUE(sameBits(a[band], b[band])) << a[band] << " vs " << b[band];
+            }
+        });
 }
 
 // "k=a,b,c" → "k=x,x,x" with x the value of `band`.

@@ -2,11 +2,14 @@
 // a volume sample without a usable normal is lit as Lambert with cos θ = 1, and agrees with a
 // normal facing the light; directLighting is Σ (kd/π + f_s) · I · cos θi / d², two-sided only when
 // asked; lights below the surface and a viewer below it contribute nothing.
+#include "core/rng.h"
+#include "materials/registry.h"
 #include "render/shading.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 namespace lobe {
 namespace {
@@ -75,9 +78,6 @@ TEST(Shading, SpecularTermIsTheModelsValueTimesIrradiance) {
     for (int band = 0; band < 3; ++band) EXPECT_NEAR(L[band], expected[band], 1e-12);
 }
 
-}  // namespace
-}  // namespace lobe
-
 namespace lobe {
 namespace {
 
@@ -106,6 +106,120 @@ TEST(Shading, HighlightTakesTheLightsColourNotTheBodyColour) {
     const Spectrum expected = p.colour * directLighting(m, p.frame, p.position, wo, lights, true);
     for (int b = 0; b < 3; ++b) EXPECT_EQ(tinted[b], expected[b]);
     EXPECT_LT(tinted[0], white[0]);
+}
+
+}  // namespace
+}  // namespace lobe
+
+// The fast light loop (render/shading.cpp: the model chosen once per point, light directions of
+// up to eight lights at once with SIMD, render/light_directions.h) against the plain one it
+// replaced — core/light.h's forEachLightInFrame with evalBrdf per light — bit for bit (tolerance
+// 0), for every model, random points, frames, viewers and lights (1 to 11: one SIMD chunk,
+// partial vectors, and more than one chunk), with and without shadows, lights below the surface
+// and a light at the point included.
+namespace reference {
+
+ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
+                        const std::vector<PointLight>& lights, long long& evaluations) {
+    const Material& m = *point.material;
+    ShadingTerms terms;
+    const Frame frame = facingViewer(point.frame, toViewer);
+    forEachLightInFrame(lights, frame, point.position, toViewer,
+                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            if (point.shadow) {
+                                g *= point.shadow[&light - lights.data()];
+                                if (!(g > 0.0)) return;
+                            }
+                            ++evaluations;
+                            terms.lambert += m.kd * kInvPi * light.intensity * g;
+                            if (m.specularOn)
+                                terms.specular += evalBrdf(m.specular, wi, wo) * m.specularScale *
+                                                  light.intensity * g;
+                        });
+    terms.lambert = point.colour * terms.lambert;
+    terms.specular = point.highlight * terms.specular;
+    return terms;
+}
+
+Spectrum directLighting(const Material& m, const Frame& frameIn, const Vec3& position,
+                        const Vec3& toViewer, const std::vector<PointLight>& lights) {
+    const Frame frame = facingViewer(frameIn, toViewer);
+    Spectrum radiance;
+    forEachLightInFrame(lights, frame, position, toViewer,
+                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+                            Spectrum f = m.kd * kInvPi;
+                            if (m.specularOn) f += evalBrdf(m.specular, wi, wo) * m.specularScale;
+                            radiance += f * light.intensity * g;
+                        });
+    return radiance;
+}
+
+}  // namespace reference
+
+bool sameBits(const Spectrum& a, const Spectrum& b) {
+    return std::memcmp(a.v.data(), b.v.data(), sizeof a.v) == 0;
+}
+
+TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
+    Rng rng(31, 7);
+    const auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * rng.uniform(); };
+    const auto unit = [&] {
+        for (;;) {
+            const Vec3 v(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+            if (v.length2() > 1e-4 && v.length2() <= 1.0) return normalized(v);
+        }
+    };
+    int cases = 0;
+    for (const BrdfModelInfo& info : brdfModels()) {
+        Material m;
+        m.specular = makeBrdf(info.name);
+        m.kd = Spectrum(0.2, 0.5, 0.7);
+        m.specularScale = 0.8;
+        for (int trial = 0; trial < 200; ++trial) {
+            const int n = 1 + trial % 11;
+            std::vector<PointLight> lights;
+            std::vector<double> shadow;
+            const Vec3 p(uniform(-50, 50), uniform(-50, 50), uniform(-50, 50));
+            for (int i = 0; i < n; ++i) {
+                const Vec3 at = trial % 17 == 0 && i == n - 1 ? p  // a light at the point: skipped
+                                                              : p + unit() * uniform(0.5, 400.0);
+                lights.push_back({at, Spectrum(uniform(10, 1e5), uniform(10, 1e5), 50.0)});
+                shadow.push_back(i % 4 == 3 ? 0.0 : uniform(0.0, 1.0));
+            }
+            ShadingPoint point;
+            point.material = &m;
+            point.colour = Spectrum(0.9, 0.6, 0.3);
+            point.highlight = trial % 2 ? Spectrum(1.0) : point.colour;
+            point.position = p;
+            point.frame = Frame::fromNormalAndAxis(unit(), Vec3(0, 0, 1), Vec3(1, 0, 0));
+            point.shadow = trial % 3 == 0 ? shadow.data() : nullptr;
+            m.specularOn = trial % 13 != 0;
+            const Vec3 toViewer = unit();
+
+            long long expectedCount = 0, count = 0;
+            const ShadingTerms a = shadeTerms(point, toViewer, lights);
+            const ShadingTerms b = reference::shadeTerms(point, toViewer, lights, expectedCount);
+            EXPECT_TRUE(sameBits(a.lambert, b.lambert)) << info.name << " trial " << trial;
+            EXPECT_TRUE(sameBits(a.specular, b.specular)) << info.name << " trial " << trial;
+            const Spectrum L = shade(point, toViewer, lights, count);
+            EXPECT_EQ(count, expectedCount) << info.name << " trial " << trial;
+            if (point.highlight == point.colour) {
+                const Spectrum ref =
+                    point.colour * reference::directLighting(m, point.frame, p, toViewer, lights);
+                if (!point.shadow) {
+                    EXPECT_TRUE(sameBits(L, ref)) << info.name << " " << trial;
+                }
+                EXPECT_TRUE(
+                    sameBits(directLighting(m, point.frame, p, toViewer, lights, true),
+                             reference::directLighting(m, point.frame, p, toViewer, lights)))
+                    << info.name << " trial " << trial;
+            } else {
+                EXPECT_TRUE(sameBits(L, b.lambert + b.specular)) << info.name << " " << trial;
+            }
+            ++cases;
+        }
+    }
+    EXPECT_EQ(cases, 200 * int(brdfModels().size()));
 }
 
 }  // namespace

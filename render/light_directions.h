@@ -1,0 +1,29 @@
+// The light directions of one shaded point for several lights at once, with SIMD across the
+// lights (Google Highway, the best target the CPU supports chosen at run time): what
+// forEachLightInFrame (core/light.h) works out per light before the BRDF, bit for bit. Every
+// operation is a correctly rounded IEEE add, multiply, divide or square root in the scalar code's
+// order (no fused multiply-add: CMake compiles the file with -ffp-contract=off), so each lane
+// holds the scalar value exactly. The square root and the four divisions per light were most of
+// the light loop's time when done one light after another (render/shading.cpp).
+#pragma once
+
+#include "core/frame.h"
+
+namespace lobe {
+
+// Up to kMaxLights lights in structure-of-arrays form; arrays padded to kMaxLights.
+struct LightDirections {
+    static constexpr int kMaxLights = 8;
+    // In: the lights' positions.
+    double px[kMaxLights], py[kMaxLights], pz[kMaxLights];
+    // Out, per light: d² = |toLight|² (toLight = light − position), the unit direction to the
+    // light in the local frame, wi = frame.toLocal(toLight / √d²), and wi.z / d² (cos θi / d²).
+    // d² = 0 (a light at the point) leaves wi and g NaN: callers test d² > 0 and wi.z > 0 first.
+    double d2[kMaxLights], wx[kMaxLights], wy[kMaxLights], wz[kMaxLights], g[kMaxLights];
+};
+
+// Fills the outputs of lights 0 … count−1 (count ≤ kMaxLights) seen from `position`.
+void computeLightDirections(LightDirections& lights, int count, const Vec3& position,
+                            const Frame& frame);
+
+}  // namespace lobe
