@@ -63,8 +63,8 @@
 // points after the first one in a visible cell, up to the ray's exit from that cell, skip the
 // read too (at step 0.05 a cell holds ~20 points). Where the distance saturates the brick
 // clearance gives the longer jump when it reaches further. Each table is exact: m = 0 on cells
-// that are not transparent, else min(cap, 1 + min over the 7 neighbours c + s∘δ, δ ∈ {0,1}³ \
-// {0}), one raster pass against the octant's signs; cells outside the table count as
+// that are not transparent, else min(cap, 1 + min over the 7 neighbours c + s∘δ, δ ∈ {0,1}³,
+// δ ≠ 0), one raster pass against the octant's signs; cells outside the table count as
 // transparent as for the bricks. The cells' transparency is the two levels' (a cell of a
 // transparent brick, or a cell whose bit is set), so the samples that contribute are the same
 // as with the two levels, bit for bit. Memory: 8 bytes per cell (the CThead's 7.8 M cells: 63
