@@ -382,6 +382,10 @@ TEST(HybridCompositing, OpaqueSurfacesFoundInPacketsGiveTheSamePixels) {
             if (!oblique || backdrop) {
                 EXPECT_EQ(lit, size_t(image.width()) * size_t(image.height()))
                     << "backdrop " << backdrop;
+            } else {
+                // Rays that meet nothing: trace() returns the empty compositor's radiance at once
+                // for them (Integrator::trace); renderPixel's rays take the whole loop.
+                EXPECT_LT(lit, size_t(image.width()) * size_t(image.height()));
             }
         }
 }
