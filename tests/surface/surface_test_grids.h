@@ -42,6 +42,20 @@ inline openvdb::FloatGrid::Ptr makeGrid(const int dims[3], const double linear[3
     return grid;
 }
 
+// Concentric shells: sin(π r / kShellSpacing) on a 48³ unit grid shifted by `offset`, with r the
+// distance from kShellCentre + offset, up to r = 20.25, where it is −1, and −1 beyond (shells at
+// r = k·1.5, k = 1 … 13): several roots per brick along a ray (the hit-list and packet tests).
+inline const Vec3 kShellCentre(24.3, 23.7, 24.1);
+inline constexpr double kShellSpacing = 1.5;  // voxels between neighbouring shells
+inline openvdb::FloatGrid::Ptr shellGrid(const Vec3& offset) {
+    const int dims[3] = {48, 48, 48};
+    const double identity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    return makeGrid(dims, identity, offset, -1.0f, [&](const Vec3& x) {
+        const double r = (x - kShellCentre - offset).length();
+        return r < 20.25 ? std::sin(kPi * r / kShellSpacing) : -1.0;
+    });
+}
+
 // First t ∈ [tMin, tMax] where the grid's trilinear interpolant (BoxSampler, index space) along
 // o + t·d (index space) crosses iso: samples at every cell-face crossing and `perSegment` points
 // between, then 200 bisection steps on the first bracket.

@@ -24,24 +24,15 @@ namespace {
 using test::makeGrid;
 
 const double kIdentity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-const Vec3 kCentre(24.3, 23.7, 24.1);
-constexpr double kShellSpacing = 1.5;  // voxels between neighbouring shells
+using test::kShellSpacing;
+using test::shellGrid;
+const Vec3& kCentre = test::kShellCentre;
 
 class OpenVdbInit : public ::testing::Environment {
 public:
     void SetUp() override { openvdb::initialize(); }
 };
 const auto* const kOpenVdbEnv = ::testing::AddGlobalTestEnvironment(new OpenVdbInit);
-
-// sin(π r / spacing) on a 48³ grid shifted by `offset` up to r = 20.25, where it is −1, and −1
-// beyond (shells at r = k·1.5, k = 1 … 13).
-openvdb::FloatGrid::Ptr shellGrid(const Vec3& offset) {
-    const int dims[3] = {48, 48, 48};
-    return makeGrid(dims, kIdentity, offset, -1.0f, [&](const Vec3& x) {
-        const double r = (x - kCentre - offset).length();
-        return r < 20.25 ? std::sin(kPi * r / kShellSpacing) : -1.0;
-    });
-}
 
 ClipShape plane(const Vec3& point, const Vec3& normal) {
     ClipShape c;

@@ -28,23 +28,14 @@ namespace {
 using test::makeGrid;
 
 const double kIdentity[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-const Vec3 kCentre(24.3, 23.7, 24.1);
+using test::shellGrid;
+const Vec3& kCentre = test::kShellCentre;
 
 class OpenVdbInit : public ::testing::Environment {
 public:
     void SetUp() override { openvdb::initialize(); }
 };
 const auto* const kOpenVdbEnv = ::testing::AddGlobalTestEnvironment(new OpenVdbInit);
-
-// Shells sin(π r / 1.5) = 0 around kCentre + offset (as test_hit_list.cpp): several roots per
-// brick along a ray, so a lane's search must respect its own nearest root.
-openvdb::FloatGrid::Ptr shellGrid(const Vec3& offset) {
-    const int dims[3] = {48, 48, 48};
-    return makeGrid(dims, kIdentity, offset, -1.0f, [&](const Vec3& x) {
-        const double r = (x - kCentre - offset).length();
-        return r < 20.25 ? std::sin(kPi * r / 1.5) : -1.0;
-    });
-}
 
 bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 

@@ -336,6 +336,20 @@ openvdb::FloatGrid::Ptr randomBalls(uint64_t seed, int balls,
         Coord(0), Coord(47));
 }
 
+// The cells of vol's distance tables in [−12, 64)³ (the random-ball grids lie inside), those of
+// them the brick and cell tables call visible into `visible`, and those `keep` picks into `cells`.
+template <class Keep>
+void tableCells(const DvrVolume& vol, std::vector<std::array<int, 3>>& visible,
+                std::vector<std::array<int, 3>>& cells, Keep keep) {
+    for (int k = -12; k < 64; ++k)
+        for (int j = -12; j < 64; ++j)
+            for (int i = -12; i < 64; ++i) {
+                if (vol.cellDistance(i, j, k) < 0) continue;  // outside the tables
+                if (!vol.cellTransparent(i, j, k)) visible.push_back({i, j, k});
+                if (keep(i, j, k)) cells.push_back({i, j, k});
+            }
+}
+
 TEST(VolumeMarcher, CellDistanceIsTheCappedChessboardDistance) {
     // Against a brute-force search over the cells the brick and cell tables call visible: every
     // cell of the table holds min(cap, L∞ distance in cells to the nearest visible one), for
@@ -350,13 +364,7 @@ TEST(VolumeMarcher, CellDistanceIsTheCappedChessboardDistance) {
             const DvrVolume vol(randomBalls(7 + bs, 3), stepTf(0.3), set);
             ASSERT_TRUE(vol.hasCellDistances());
             std::vector<std::array<int, 3>> visible, cells;
-            for (int k = -12; k < 64; ++k)
-                for (int j = -12; j < 64; ++j)
-                    for (int i = -12; i < 64; ++i) {
-                        if (vol.cellDistance(i, j, k) < 0) continue;
-                        cells.push_back({i, j, k});
-                        if (!vol.cellTransparent(i, j, k)) visible.push_back({i, j, k});
-                    }
+            tableCells(vol, visible, cells, [](int, int, int) { return true; });
             ASSERT_GT(visible.size(), 20u);
             ASSERT_GT(cells.size(), 50u * 50u * 50u);
             for (const auto& c : cells) {
@@ -392,13 +400,8 @@ TEST(VolumeMarcher, OctantDistanceIsTheLargestTransparentForwardCube) {
             const DvrVolume vol(randomBalls(40 + bs, 3), stepTf(0.3), set);
             ASSERT_TRUE(vol.hasCellDistances());
             std::vector<std::array<int, 3>> visible, cells;
-            for (int k = -12; k < 64; ++k)
-                for (int j = -12; j < 64; ++j)
-                    for (int i = -12; i < 64; ++i) {
-                        if (vol.octantDistance(0, i, j, k) < 0) continue;
-                        if (!vol.cellTransparent(i, j, k)) visible.push_back({i, j, k});
-                        if ((i + 2 * j + 3 * k) % 7 == 0) cells.push_back({i, j, k});
-                    }
+            tableCells(vol, visible, cells,
+                       [](int i, int j, int k) { return (i + 2 * j + 3 * k) % 7 == 0; });
             ASSERT_GT(visible.size(), 20u);
             for (int octant = 0; octant < 8; ++octant) {
                 const int s[3] = {octant & 1 ? -1 : 1, octant & 2 ? -1 : 1, octant & 4 ? -1 : 1};
