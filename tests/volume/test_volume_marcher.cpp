@@ -336,6 +336,15 @@ openvdb::FloatGrid::Ptr randomBalls(uint64_t seed, int balls,
         Coord(0), Coord(47));
 }
 
+// Random balls (seed) under a step transfer function, with the given brick size and filter: the
+// volumes of the distance-table tests.
+DvrVolume ballsVolume(int brickSize, Reconstruction r, int seed) {
+    DvrSettings set;
+    set.brickSize = brickSize;
+    set.reconstruction = r;
+    return DvrVolume(randomBalls(seed, 3), stepTf(0.3), set);
+}
+
 // The cells of vol's distance tables in [−12, 64)³ (the random-ball grids lie inside), those of
 // them the brick and cell tables call visible into `visible`, and those `keep` picks into `cells`.
 template <class Keep>
@@ -358,10 +367,7 @@ TEST(VolumeMarcher, CellDistanceIsTheCappedChessboardDistance) {
     int largest = 0, checked = 0;
     for (int bs : {2, 4, 8})
         for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline}) {
-            DvrSettings set;
-            set.brickSize = bs;
-            set.reconstruction = r;
-            const DvrVolume vol(randomBalls(7 + bs, 3), stepTf(0.3), set);
+            const DvrVolume vol = ballsVolume(bs, r, 7 + bs);
             ASSERT_TRUE(vol.hasCellDistances());
             std::vector<std::array<int, 3>> visible, cells;
             tableCells(vol, visible, cells, [](int, int, int) { return true; });
@@ -394,10 +400,7 @@ TEST(VolumeMarcher, OctantDistanceIsTheLargestTransparentForwardCube) {
     int largest = 0, capped = 0;
     for (int bs : {2, 4})
         for (Reconstruction r : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline}) {
-            DvrSettings set;
-            set.brickSize = bs;
-            set.reconstruction = r;
-            const DvrVolume vol(randomBalls(40 + bs, 3), stepTf(0.3), set);
+            const DvrVolume vol = ballsVolume(bs, r, 40 + bs);
             ASSERT_TRUE(vol.hasCellDistances());
             std::vector<std::array<int, 3>> visible, cells;
             tableCells(vol, visible, cells,
