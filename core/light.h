@@ -7,9 +7,11 @@
 #pragma once
 
 #include "core/frame.h"
+#include "core/light_directions.h"
 #include "core/math.h"
 #include "core/spectrum.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -43,11 +45,27 @@ inline void forEachLightInFrame(const std::vector<PointLight>& lights, const Fra
                                 const Vec3& position, const Vec3& toViewer, Fn&& fn) {
     const Vec3 wo = frame.toLocal(toViewer);
     if (!(wo.z > 0.0)) return;
-    forEachLight(lights, position, [&](const PointLight& light, const Vec3& toLight, double d2) {
-        const Vec3 wi = frame.toLocal(toLight / std::sqrt(d2));
-        if (!(wi.z > 0.0)) return;
-        fn(light, wi, wo, wi.z / d2);
-    });
+    // For up to kMaxLights lights at once with SIMD across the lights (core/light_directions.h):
+    // toLight = light − position, d² = |toLight|², wi = frame.toLocal(toLight / √d²) and
+    // wi.z / d², the same IEEE operations in the same order as one light at a time. fn is then
+    // called in the lights' order.
+    constexpr int kChunk = LightDirections::kMaxLights;
+    const int n = int(lights.size());
+    for (int start = 0; start < n; start += kChunk) {
+        const int count = std::min(n - start, kChunk);
+        LightDirections dirs;
+        for (int k = 0; k < kChunk; ++k) {  // the padding lanes at the origin
+            const Vec3 p = k < count ? lights[size_t(start + k)].position : Vec3(0.0);
+            dirs.px[k] = p.x;
+            dirs.py[k] = p.y;
+            dirs.pz[k] = p.z;
+        }
+        computeLightDirections(dirs, count, position, frame);
+        for (int k = 0; k < count; ++k)
+            if (dirs.d2[k] > 0.0 && dirs.wz[k] > 0.0)
+                fn(lights[size_t(start + k)], Vec3(dirs.wx[k], dirs.wy[k], dirs.wz[k]), wo,
+                   dirs.g[k]);
+    }
 }
 
 }  // namespace lobe

@@ -1,7 +1,5 @@
 #include "render/shading.h"
 
-#include "render/light_directions.h"
-
 #include <algorithm>
 #include <cmath>
 
@@ -9,39 +7,22 @@ namespace lobe {
 
 namespace {
 
-// The lights of one point as forEachLightInFrame (core/light.h) walks them, bit for bit: the
-// lights not at the point and above its surface, with wi the unit direction to the light in the
-// local frame and g = cos θi / d² (× the shadow transmittance, lights it leaves at 0 dropped).
-// They are worked out for up to LightDirections::kMaxLights lights at once with SIMD across the
-// lights (render/light_directions.h) before any BRDF is evaluated; fn(light index, wi, g) is then
-// called in the lights' order. Nothing when the viewer is below the surface (wo.z ≤ 0).
+// fn(light index, wi, g) for the lights of one point as forEachLightInFrame (core/light.h, the
+// one light loop) walks them, g = cos θi / d² times the shadow transmittance; lights a shadow
+// leaves at 0 are dropped.
 template <class Fn>
 inline void forEachLitLight(const std::vector<PointLight>& lights, const Frame& frame,
-                            const Vec3& position, const Vec3& wo, const double* shadow, Fn&& fn) {
-    if (!(wo.z > 0.0)) return;
-    constexpr int kChunk = LightDirections::kMaxLights;
-    const int n = int(lights.size());
-    for (int start = 0; start < n; start += kChunk) {
-        const int count = std::min(n - start, kChunk);
-        LightDirections dirs;
-        for (int k = 0; k < kChunk; ++k) {  // the padding lanes at the origin
-            const Vec3 p = k < count ? lights[size_t(start + k)].position : Vec3(0.0);
-            dirs.px[k] = p.x;
-            dirs.py[k] = p.y;
-            dirs.pz[k] = p.z;
-        }
-        computeLightDirections(dirs, count, position, frame);
-        for (int k = 0; k < count; ++k) {
-            if (!(dirs.d2[k] > 0.0) || !(dirs.wz[k] > 0.0)) continue;
-            double g = dirs.g[k];
-            const size_t light = size_t(start + k);
-            if (shadow) {
-                g *= shadow[light];
-                if (!(g > 0.0)) continue;
-            }
-            fn(light, Vec3(dirs.wx[k], dirs.wy[k], dirs.wz[k]), g);
-        }
-    }
+                            const Vec3& position, const Vec3& toViewer, const double* shadow,
+                            Fn&& fn) {
+    forEachLightInFrame(lights, frame, position, toViewer,
+                        [&](const PointLight& light, const Vec3& wi, const Vec3&, double g) {
+                            const size_t i = size_t(&light - lights.data());
+                            if (shadow) {
+                                g *= shadow[i];
+                                if (!(g > 0.0)) return;
+                            }
+                            fn(i, wi, g);
+                        });
 }
 
 // The light loops of directLighting and shadeTerms for one model's view (materials/brdf.h,
@@ -51,12 +32,12 @@ inline void forEachLitLight(const std::vector<PointLight>& lights, const Frame& 
 //   directLighting: Σ (kd/π + f_s · scale) · I · g
 template <class View, class OnEvaluation>
 Spectrum directLightingLoop(View& specular, const Material& material, const Frame& frame,
-                            const Vec3& position, const Vec3& wo,
+                            const Vec3& position, const Vec3& toViewer,
                             const std::vector<PointLight>& lights, const double* shadow,
                             OnEvaluation& onEvaluation) {
     const Spectrum diffuse = material.kd * kInvPi;
     Spectrum radiance;
-    forEachLitLight(lights, frame, position, wo, shadow,
+    forEachLitLight(lights, frame, position, toViewer, shadow,
                     [&](size_t light, const Vec3& wi, double g) {
                         onEvaluation();
                         Spectrum f = diffuse;
@@ -69,12 +50,12 @@ Spectrum directLightingLoop(View& specular, const Material& material, const Fram
 //   shadeTerms: Σ kd/π · I · g and Σ f_s · scale · I · g apart
 template <class View, class OnEvaluation>
 ShadingTerms shadeTermsLoop(View& specular, const Material& m, const Frame& frame,
-                            const Vec3& position, const Vec3& wo,
+                            const Vec3& position, const Vec3& toViewer,
                             const std::vector<PointLight>& lights, const double* shadow,
                             OnEvaluation& onEvaluation) {
     const Spectrum diffuse = m.kd * kInvPi;
     Spectrum lambert, spec;
-    forEachLitLight(lights, frame, position, wo, shadow,
+    forEachLitLight(lights, frame, position, toViewer, shadow,
                     [&](size_t light, const Vec3& wi, double g) {
                         onEvaluation();
                         const Spectrum& intensity = lights[light].intensity;
@@ -93,7 +74,7 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     const Vec3 wo = frame.toLocal(toViewer);
     return visitAtView(material.specular, wo, [&](auto& specular) {
-        return directLightingLoop(specular, material, frame, position, wo, lights, shadow,
+        return directLightingLoop(specular, material, frame, position, toViewer, lights, shadow,
                                   onEvaluation);
     });
 }
@@ -133,7 +114,7 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
     const Frame frame = facingViewer(point.frame, toViewer);
     const Vec3 wo = frame.toLocal(toViewer);
     terms = visitAtView(m.specular, wo, [&](auto& specular) {
-        return shadeTermsLoop(specular, m, frame, point.position, wo, lights, point.shadow,
+        return shadeTermsLoop(specular, m, frame, point.position, toViewer, lights, point.shadow,
                               onEvaluation);
     });
     terms.lambert = point.colour * terms.lambert;

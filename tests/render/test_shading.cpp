@@ -111,31 +111,49 @@ TEST(Shading, HighlightTakesTheLightsColourNotTheBodyColour) {
 }  // namespace
 }  // namespace lobe
 
-// The fast light loop (render/shading.cpp: the model chosen once per point, light directions of
-// up to eight lights at once with SIMD, render/light_directions.h) against the plain one it
-// replaced — core/light.h's forEachLightInFrame with evalBrdf per light — bit for bit (tolerance
+// The fast light loop (render/shading.cpp: the model chosen once per point; core/light.h: light
+// directions of up to eight lights at once with SIMD, core/light_directions.h) against the plain
+// one it replaced — one light at a time with evalBrdf per light — bit for bit (tolerance
 // 0), for every model, random points, frames, viewers and lights (1 to 11: one SIMD chunk,
 // partial vectors, and more than one chunk), with and without shadows, lights below the surface
 // and a light at the point included.
 namespace reference {
+
+// The light loop one light at a time, as core/light.h's forEachLightInFrame was written before
+// it worked out the directions with SIMD: fn(light, wi, wo, cos θi / d²).
+template <class Fn>
+void forEachLightInFrame(const std::vector<PointLight>& lights, const Frame& frame,
+                         const Vec3& position, const Vec3& toViewer, Fn&& fn) {
+    const Vec3 wo = frame.toLocal(toViewer);
+    if (!(wo.z > 0.0)) return;
+    for (const PointLight& light : lights) {
+        const Vec3 toLight = light.position - position;
+        const double d2 = toLight.length2();
+        if (!(d2 > 0.0)) continue;
+        const Vec3 wi = frame.toLocal(toLight / std::sqrt(d2));
+        if (!(wi.z > 0.0)) continue;
+        fn(light, wi, wo, wi.z / d2);
+    }
+}
 
 ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
                         const std::vector<PointLight>& lights, long long& evaluations) {
     const Material& m = *point.material;
     ShadingTerms terms;
     const Frame frame = facingViewer(point.frame, toViewer);
-    forEachLightInFrame(lights, frame, point.position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
-                            if (point.shadow) {
-                                g *= point.shadow[&light - lights.data()];
-                                if (!(g > 0.0)) return;
-                            }
-                            ++evaluations;
-                            terms.lambert += m.kd * kInvPi * light.intensity * g;
-                            if (m.specularOn)
-                                terms.specular += evalBrdf(m.specular, wi, wo) * m.specularScale *
-                                                  light.intensity * g;
-                        });
+    reference::forEachLightInFrame(
+        lights, frame, point.position, toViewer,
+        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+            if (point.shadow) {
+                g *= point.shadow[&light - lights.data()];
+                if (!(g > 0.0)) return;
+            }
+            ++evaluations;
+            terms.lambert += m.kd * kInvPi * light.intensity * g;
+            if (m.specularOn)
+                terms.specular +=
+                    evalBrdf(m.specular, wi, wo) * m.specularScale * light.intensity * g;
+        });
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
     return terms;
@@ -145,12 +163,13 @@ Spectrum directLighting(const Material& m, const Frame& frameIn, const Vec3& pos
                         const Vec3& toViewer, const std::vector<PointLight>& lights) {
     const Frame frame = facingViewer(frameIn, toViewer);
     Spectrum radiance;
-    forEachLightInFrame(lights, frame, position, toViewer,
-                        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
-                            Spectrum f = m.kd * kInvPi;
-                            if (m.specularOn) f += evalBrdf(m.specular, wi, wo) * m.specularScale;
-                            radiance += f * light.intensity * g;
-                        });
+    reference::forEachLightInFrame(
+        lights, frame, position, toViewer,
+        [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+            Spectrum f = m.kd * kInvPi;
+            if (m.specularOn) f += evalBrdf(m.specular, wi, wo) * m.specularScale;
+            radiance += f * light.intensity * g;
+        });
     return radiance;
 }
 

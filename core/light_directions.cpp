@@ -3,13 +3,13 @@
 // (HWY_DYNAMIC_DISPATCH). See light_directions.h for the exactness argument; CMake compiles this
 // file with -ffp-contract=off.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "render/light_directions.cpp"
+#define HWY_TARGET_INCLUDE "core/light_directions.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 // clang-format off: foreach_target.h must come before highway.h
 #include <hwy/highway.h>
 // clang-format on
 
-#include "render/light_directions.h"
+#include "core/light_directions.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace lobe {

@@ -1,10 +1,10 @@
 // The light directions of one shaded point for several lights at once, with SIMD across the
-// lights (Google Highway, the best target the CPU supports chosen at run time): what
-// forEachLightInFrame (core/light.h) works out per light before the BRDF, bit for bit. Every
+// lights (Google Highway, the best target the CPU supports chosen at run time): what the light
+// loop, forEachLightInFrame (core/light.h), works out per light before the BRDF. Every
 // operation is a correctly rounded IEEE add, multiply, divide or square root in the scalar code's
 // order (no fused multiply-add: CMake compiles the file with -ffp-contract=off), so each lane
 // holds the scalar value exactly. The square root and the four divisions per light were most of
-// the light loop's time when done one light after another (render/shading.cpp).
+// the light loop's time when done one light after another (docs/performance.md, round 3).
 #pragma once
 
 #include "core/frame.h"
