@@ -137,15 +137,17 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Ray& ray) const {
     RTCRayHit rh;
     fillEmbreeRay(ray, rh);
     rtcIntersect1(scene_.get(), &ctx.base, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-    // A user geometry that accepted the final hit left its double distance in the context.
-    double t = rh.ray.tfar;
-    if (ctx.geomId == rh.hit.geomID && ctx.primId == rh.hit.primID) t = ctx.tHit;
-    if (t < ray.tMin || t > ray.tMax) return std::nullopt;  // float rounding at the ends
-    const int objectId = objectOfGeom_.at(rh.hit.geomID);
-    SurfaceHit hit = objects_[objectId]->shade(ray, t, rh.hit.primID);
-    hit.objectId = objectId;
-    return hit;
+    return finalHit(ray, rh.hit.geomID, rh.hit.primID, rh.ray.tfar, ctx.geomId, ctx.primId,
+                    ctx.tHit);
+}
+
+std::optional<SurfaceHit> SurfaceScene::finalHit(const Ray& ray, unsigned geomId, unsigned primId,
+                                                 double tfar, unsigned acceptedGeom,
+                                                 unsigned acceptedPrim, double acceptedT) const {
+    if (geomId == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    const double t = acceptedGeom == geomId && acceptedPrim == primId ? acceptedT : tfar;
+    if (t < ray.tMin || t > ray.tMax) return std::nullopt;
+    return shadeHit(ray, {t, geomId, primId});
 }
 
 void SurfaceScene::intersect8(const Ray* const* rays, int n, std::optional<SurfaceHit>* out) const {
@@ -182,20 +184,9 @@ void SurfaceScene::intersect8(const Ray* const* rays, int n, std::optional<Surfa
         if (k < n) lanes[k].ray = rays[k];
     }
     rtcIntersect8(valid, scene_.get(), &ctx.base, &rh);
-    for (int k = 0; k < n; ++k) {
-        out[k].reset();
-        const unsigned geomId = rh.hit.geomID[k], primId = rh.hit.primID[k];
-        if (geomId == RTC_INVALID_GEOMETRY_ID) continue;
-        // As intersect(): a user geometry that accepted the final hit left its double distance.
-        double t = rh.ray.tfar[k];
-        if (lanes[k].geomId == geomId && lanes[k].primId == primId) t = lanes[k].tHit;
-        const Ray& ray = *rays[k];
-        if (t < ray.tMin || t > ray.tMax) continue;
-        const int objectId = objectOfGeom_.at(geomId);
-        SurfaceHit hit = objects_[objectId]->shade(ray, t, primId);
-        hit.objectId = objectId;
-        out[k] = hit;
-    }
+    for (int k = 0; k < n; ++k)
+        out[k] = finalHit(*rays[k], rh.hit.geomID[k], rh.hit.primID[k], rh.ray.tfar[k],
+                          lanes[k].geomId, lanes[k].primId, lanes[k].tHit);
 }
 
 bool SurfaceScene::occluded(const Ray& ray) const {

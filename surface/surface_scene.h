@@ -182,6 +182,13 @@ public:
     int objectCount() const { return static_cast<int>(objects_.size()); }
 
 private:
+    // The hit an Embree query ended on (geomId, primId, Embree's float tfar): at the double
+    // distance a user geometry left where it accepted that very hit (accepted*: RayContext's or
+    // a packet lane's), else at tfar; none outside [ray.tMin, ray.tMax] (float rounding at the
+    // ends). intersect() and intersect8() alike.
+    std::optional<SurfaceHit> finalHit(const Ray& ray, unsigned geomId, unsigned primId,
+                                       double tfar, unsigned acceptedGeom, unsigned acceptedPrim,
+                                       double acceptedT) const;
     EmbreeDevice device_;
     EmbreeScene scene_;
     std::vector<std::shared_ptr<const SurfaceGeometry>> objects_;
