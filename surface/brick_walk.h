@@ -97,6 +97,9 @@ struct WalkRay {
     double overlap = 0;   // brick_walk_detail::kBrickOverlapVoxels / |d|
     double tol = 0.0;     // brick_walk_detail::kRootToleranceVoxels / |d|
     bool usable = false;  // |d| finite and non-zero: otherwise no brick is searched
+    // o finite, and every d[a] and 1/d[a] finite and non-zero: firstRootInBrick's clip may then
+    // skip the tests for an axis the ray does not move along (same numbers either way).
+    bool regular = false;
 
     WalkRay() = default;
     WalkRay(const Vec3& origin, const Vec3& direction)
@@ -109,6 +112,9 @@ struct WalkRay {
         invD = Vec3(d.x != 0.0 ? 1.0 / d.x : 0.0, d.y != 0.0 ? 1.0 / d.y : 0.0,
                     d.z != 0.0 ? 1.0 / d.z : 0.0);
         tol = brick_walk_detail::kRootToleranceVoxels / dLen;
+        regular = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z);
+        for (int a = 0; a < 3; ++a)
+            regular = regular && d[a] != 0.0 && invD[a] != 0.0 && std::isfinite(invD[a]);
     }
 };
 
@@ -127,44 +133,73 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
     const Vec3& o = ray.o;
     const Vec3& d = ray.d;
     const Vec3& invD = ray.invD;
-    // Slab clip against the brick's index box, widened by the overlap (in t units).
-    const double overlap = ray.overlap;
     double t0 = tMin, t1 = tMax;
-    for (int a = 0; a < 3; ++a) {
-        const double lo = origin[a], hi = origin[a] + kCells;
-        if (d[a] == 0.0) {
-            if (o[a] < lo - kBrickOverlapVoxels || o[a] > hi + kBrickOverlapVoxels) return false;
-            continue;
-        }
-        double ta = (lo - o[a]) * invD[a], tb = (hi - o[a]) * invD[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta - overlap);
-        t1 = std::min(t1, tb + overlap);
-    }
-    if (!(t0 <= t1)) return false;
-    {
-        // Early out: [t0, t1] misses the box of the brick's straddling cells, widened by
-        // kStraddleBoxMarginVoxels to cover the walk's rounding and the cells it clamps in from
-        // the overlap. Else the walk covers that box only: roots lie in straddling cells, and
-        // the cells outside it cannot change sign between them (two cells a ray passes in turn
-        // share at least a corner, so one all below iso and one all above never meet).
+    if (ray.regular) {
+        // The two clips below in one pass, without branches: for d > 0 the plane at the box's
+        // low side is entered and the high one left (the products are monotone in the plane),
+        // for d < 0 the other way round, which is the swap below made in advance; max and min
+        // are exact, so their order does not matter, and an empty brick clip leaves an empty
+        // straddle clip.
         const std::array<std::uint8_t, 6>& sb = cells.straddleBox;
-        double s0 = t0, s1 = t1;
+        double e0 = t0, e1 = t1;
+        double s0 = -kInf, s1 = kInf;
         for (int a = 0; a < 3; ++a) {
-            const double lo = origin[a] + sb[a] - kStraddleBoxMarginVoxels;
-            const double hi = origin[a] + sb[a + 3] + kStraddleBoxMarginVoxels;
+            const bool up = d[a] > 0.0;
+            const double lo = origin[a], hi = origin[a] + kCells;
+            const double slo = origin[a] + sb[a] - kStraddleBoxMarginVoxels;
+            const double shi = origin[a] + sb[a + 3] + kStraddleBoxMarginVoxels;
+            const double ta = ((up ? lo : hi) - o[a]) * invD[a];
+            const double tb = ((up ? hi : lo) - o[a]) * invD[a];
+            const double sa = ((up ? slo : shi) - o[a]) * invD[a];
+            const double sbb = ((up ? shi : slo) - o[a]) * invD[a];
+            e0 = std::max(e0, ta - ray.overlap);
+            e1 = std::min(e1, tb + ray.overlap);
+            s0 = std::max(s0, sa);
+            s1 = std::min(s1, sbb);
+        }
+        t0 = std::max(e0, s0);
+        t1 = std::min(e1, s1);
+        if (!(t0 <= t1)) return false;
+    } else {
+        // Slab clip against the brick's index box, widened by the overlap (in t units).
+        const double overlap = ray.overlap;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = origin[a], hi = origin[a] + kCells;
             if (d[a] == 0.0) {
-                if (!(o[a] >= lo && o[a] <= hi)) return false;
+                if (o[a] < lo - kBrickOverlapVoxels || o[a] > hi + kBrickOverlapVoxels)
+                    return false;
                 continue;
             }
             double ta = (lo - o[a]) * invD[a], tb = (hi - o[a]) * invD[a];
             if (ta > tb) std::swap(ta, tb);
-            s0 = std::max(s0, ta);
-            s1 = std::min(s1, tb);
+            t0 = std::max(t0, ta - overlap);
+            t1 = std::min(t1, tb + overlap);
         }
-        if (!(s0 <= s1)) return false;
-        t0 = s0;
-        t1 = s1;
+        if (!(t0 <= t1)) return false;
+        {
+            // Early out: [t0, t1] misses the box of the brick's straddling cells, widened by
+            // kStraddleBoxMarginVoxels to cover the walk's rounding and the cells it clamps in from
+            // the overlap. Else the walk covers that box only: roots lie in straddling cells, and
+            // the cells outside it cannot change sign between them (two cells a ray passes in turn
+            // share at least a corner, so one all below iso and one all above never meet).
+            const std::array<std::uint8_t, 6>& sb = cells.straddleBox;
+            double s0 = t0, s1 = t1;
+            for (int a = 0; a < 3; ++a) {
+                const double lo = origin[a] + sb[a] - kStraddleBoxMarginVoxels;
+                const double hi = origin[a] + sb[a + 3] + kStraddleBoxMarginVoxels;
+                if (d[a] == 0.0) {
+                    if (!(o[a] >= lo && o[a] <= hi)) return false;
+                    continue;
+                }
+                double ta = (lo - o[a]) * invD[a], tb = (hi - o[a]) * invD[a];
+                if (ta > tb) std::swap(ta, tb);
+                s0 = std::max(s0, ta);
+                s1 = std::min(s1, tb);
+            }
+            if (!(s0 <= s1)) return false;
+            t0 = s0;
+            t1 = s1;
+        }
     }
 
     // DDA state per axis (Amanatides & Woo 1987): the next integer plane k, reached at
@@ -178,7 +213,13 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
     for (int a = 0; a < 3; ++a) {
         const double p = o[a] + t0 * d[a];
         double c;
-        if (d[a] > 0.0) {
+        if (ray.regular) {
+            // d[a] ≠ 0: the two branches below without the test of the third.
+            const bool up = d[a] > 0.0;
+            step[a] = up ? 1 : -1;
+            k[a] = up ? std::floor(p) + 1.0 : std::ceil(p) - 1.0;
+            c = up ? k[a] - 1.0 : k[a];
+        } else if (d[a] > 0.0) {
             step[a] = 1;
             k[a] = std::floor(p) + 1.0;
             c = k[a] - 1.0;
@@ -195,6 +236,12 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
         c -= origin[a];
         cell[a] = (c >= -1.0) ? (c <= kCells ? static_cast<int>(c) : kCells) : -1;
     }
+    const int sx = step[0], sy = step[1], sz = step[2];
+    const double fx = sx, fy = sy, fz = sz;
+    const double ox = o.x, oy = o.y, oz = o.z, ix = invD.x, iy = invD.y, iz = invD.z;
+    double kx = k[0], ky = k[1], kz = k[2];
+    double nx = tNext[0], ny = tNext[1], nz = tNext[2];
+    int cx = cell[0], cy = cell[1], cz = cell[2];
 
     const std::uint64_t* masks = cells.masks;
     const double tol = ray.tol;
@@ -202,11 +249,11 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
     double gPrevEnd = 0.0;  // g at the end of the previous segment; 0: none yet
     // Bounded: each pass moves at least one axis one plane (≤ ~3·(8+2) passes per brick).
     for (int guard = 0; guard < 4 * 3 * (kCells + 4) && t <= t1; ++guard) {
-        const double tEnd = std::min(t1, std::min(tNext[0], std::min(tNext[1], tNext[2])));
+        const double tEnd = std::min(t1, std::min(nx, std::min(ny, nz)));
         if (tEnd > t || (tEnd == t && t == t1)) {
-            const int lx = std::min(kCells - 1, std::max(0, cell[0]));
-            const int ly = std::min(kCells - 1, std::max(0, cell[1]));
-            const int lz = std::min(kCells - 1, std::max(0, cell[2]));
+            const int lx = std::min(kCells - 1, std::max(0, cx));
+            const int ly = std::min(kCells - 1, std::max(0, cy));
+            const int lz = std::min(kCells - 1, std::max(0, cz));
             const std::uint64_t bit = std::uint64_t(1) << (lx + kCells * ly);
             if (masks[lz] & bit) {
                 // The 8 corners straddle iso: the cubic along the segment (trilinear_cell.h).
@@ -222,16 +269,21 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
                     tHit = t;  // the sign changed exactly on the face between two cells
                     return true;
                 }
-                double s = 0.0;
                 // Most straddling cells a ray crosses hold no root on its segment: the Bernstein
                 // bound proves that for most of them without the derivative's roots, and
-                // firstRootOnInterval would then return false (trilinear_cell.h).
-                if (!(kSkipByBound && cubicHasNoRootOn(g, tEnd - t)) &&
-                    firstRootOnInterval(g, tEnd - t, tol, s)) {
-                    tHit = std::min(t + s, t1);
-                    return true;
+                // firstRootOnInterval would then return false (trilinear_cell.h). It also proves
+                // that g(L) has g0's sign (no evaluation on [0, L] rounds across 0), and only the
+                // sign of gPrevEnd is ever read.
+                if (kSkipByBound && cubicHasNoRootOn(g, tEnd - t)) {
+                    gPrevEnd = g0;
+                } else {
+                    double s = 0.0;
+                    if (firstRootOnInterval(g, tEnd - t, tol, s)) {
+                        tHit = std::min(t + s, t1);
+                        return true;
+                    }
+                    gPrevEnd = g(tEnd - t);
                 }
-                gPrevEnd = g(tEnd - t);
             } else if (masks[kCells + lz] & bit) {
                 if (gPrevEnd < 0.0) {
                     tHit = t;
@@ -247,12 +299,20 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
             }
         }
         if (tEnd >= t1) break;
-        for (int a = 0; a < 3; ++a) {
-            if (tNext[a] <= tEnd) {
-                k[a] += step[a];
-                cell[a] += step[a];
-                tNext[a] = (k[a] - o[a]) * invD[a];
-            }
+        if (nx <= tEnd) {
+            kx += fx;
+            cx += sx;
+            nx = (kx - ox) * ix;
+        }
+        if (ny <= tEnd) {
+            ky += fy;
+            cy += sy;
+            ny = (ky - oy) * iy;
+        }
+        if (nz <= tEnd) {
+            kz += fz;
+            cz += sz;
+            nz = (kz - oz) * iz;
         }
         t = std::max(t, tEnd);
     }

@@ -21,8 +21,6 @@
 
 namespace lobe::user_geometry {
 
-// The ray of lane i: the caller's double ray when SurfaceScene passed one (single rays), else
-// Embree's float copy. tMax also respects the best double hit recorded so far.
 // The smallest float not below t (Embree's tfar for a double hit distance t).
 inline float floatAtLeast(double t) {
     const float f = static_cast<float>(t);
@@ -36,8 +34,13 @@ inline RayContext::Lane* packetLane(RTCRayN* ray, unsigned N, unsigned i, const 
     return id < ctx->laneCount && ctx->lanes[id].ray ? &ctx->lanes[id] : nullptr;
 }
 
-inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx, Vec3& o, Vec3& d,
-                    double& tMin, double& tMax) {
+// The ray of lane i: the caller's double ray when SurfaceScene passed one (single rays; for a
+// packet's lanes `lane`, packetLane's answer, which the caller needs too), else Embree's float
+// copy. tMax also respects the best double hit recorded so far. Inlined, as are primitiveRay and
+// intersectClipped: they run once per brick a ray reaches.
+[[gnu::always_inline]] inline void laneRay(RTCRayN* ray, unsigned N, unsigned i,
+                                           const RayContext* ctx, const RayContext::Lane* lane,
+                                           Vec3& o, Vec3& d, double& tMin, double& tMax) {
     const double tfar = RTCRayN_tfar(ray, N, i);
     if (N == 1 && ctx && ctx->ray) {
         o = ctx->ray->o;
@@ -45,13 +48,13 @@ inline void laneRay(RTCRayN* ray, unsigned N, unsigned i, const RayContext* ctx,
         tMin = std::max(0.0, ctx->ray->tMin);
         tMax = std::min(tfar, ctx->ray->tMax);
         if (ctx->geomId != RTC_INVALID_GEOMETRY_ID) tMax = std::min(tMax, ctx->tHit);
-    } else if (const RayContext::Lane* lane = packetLane(ray, N, i, ctx)) {
+    } else if (const RayContext::Lane* l = N == 1 ? packetLane(ray, N, i, ctx) : lane) {
         // The same for a packet's lane.
-        o = lane->ray->o;
-        d = lane->ray->d;
-        tMin = std::max(0.0, lane->ray->tMin);
-        tMax = std::min(tfar, lane->ray->tMax);
-        if (lane->geomId != RTC_INVALID_GEOMETRY_ID) tMax = std::min(tMax, lane->tHit);
+        o = l->ray->o;
+        d = l->ray->d;
+        tMin = std::max(0.0, l->ray->tMin);
+        tMax = std::min(tfar, l->ray->tMax);
+        if (l->geomId != RTC_INVALID_GEOMETRY_ID) tMax = std::min(tMax, l->tHit);
     } else {
         o = Vec3(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
         d = Vec3(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
@@ -93,7 +96,7 @@ bool intersectPrimitive(const Surface& self, unsigned prim, const PrimitiveRay& 
 // (RayContext::primitiveRay: Embree calls a geometry's primitives of one ray in turn); others are
 // made in `local`. Either way the same arithmetic, so the same numbers.
 template <typename Surface>
-const typename PrimitiveRayOf<Surface>::type& primitiveRay(
+[[gnu::always_inline]] inline const typename PrimitiveRayOf<Surface>::type& primitiveRay(
     const Surface& self, unsigned N, const RayContext* ctx, RayContext::Lane* lane, unsigned geomId,
     const Vec3& o, const Vec3& d, typename PrimitiveRayOf<Surface>::type& local) {
     using PrimitiveRay = typename PrimitiveRayOf<Surface>::type;
@@ -130,9 +133,11 @@ const typename PrimitiveRayOf<Surface>::type& primitiveRay(
 // With a mask (RayContext::masks) a root the mask refuses is passed over and the search goes on
 // behind it.
 template <typename Surface, typename PrimitiveRay>
-bool intersectClipped(const Surface& self, unsigned prim, const PrimitiveRay& r, double tMin,
-                      double tMax, const ClipIntervals* clip, double& t,
-                      const RayContext* ctx = nullptr, unsigned geomId = 0) {
+[[gnu::always_inline]] inline bool intersectClipped(const Surface& self, unsigned prim,
+                                                    const PrimitiveRay& r, double tMin, double tMax,
+                                                    const ClipIntervals* clip, double& t,
+                                                    const RayContext* ctx = nullptr,
+                                                    unsigned geomId = 0) {
     const bool masked =
         ctx && ctx->masks && ctx->ray && geomId < ctx->masks->size() && (*ctx->masks)[geomId];
     const auto search = [&](double a, double b) {
@@ -174,8 +179,8 @@ void intersect(const RTCIntersectFunctionNArguments* args) {
         if (args->valid[i] != -1) continue;
         Vec3 o, d;
         double tMin, tMax;
-        laneRay(ray, args->N, i, ctx, o, d, tMin, tMax);
         RayContext::Lane* lane = args->N == 1 ? nullptr : packetLane(ray, args->N, i, ctx);
+        laneRay(ray, args->N, i, ctx, lane, o, d, tMin, tMax);
         typename PrimitiveRayOf<Surface>::type local;
         const auto& pr = primitiveRay(*self, args->N, ctx, lane, args->geomID, o, d, local);
         double t;
@@ -235,8 +240,8 @@ void occluded(const RTCOccludedFunctionNArguments* args) {
         if (args->valid[i] != -1) continue;
         Vec3 o, d;
         double tMin, tMax;
-        laneRay(args->ray, args->N, i, ctx, o, d, tMin, tMax);
         RayContext::Lane* lane = args->N == 1 ? nullptr : packetLane(args->ray, args->N, i, ctx);
+        laneRay(args->ray, args->N, i, ctx, lane, o, d, tMin, tMax);
         typename PrimitiveRayOf<Surface>::type local;
         const auto& pr = primitiveRay(*self, args->N, ctx, lane, args->geomID, o, d, local);
         double t;
