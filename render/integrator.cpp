@@ -236,15 +236,16 @@ Ray Integrator::firstSurfaceSegment(const Ray& ray) const {
 Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
                            RenderStats& stats, EventSink* sink,
                            const std::optional<SurfaceHit>* firstHit) const {
-    ++stats.rays;
     const SceneSpec& spec = scene_.spec();
     const Backdrop& backdrop = scene_.backdrop();
     if (firstHit && !firstHit->has_value() && !backdrop.enabled() && !sink) {
         // A camera ray of a packet scene (firstHitsInPackets: opaque surfaces only, no volumes
         // or caps) that met no surface, with no backdrop: nothing is composited, so its radiance
-        // is the empty compositor's, as the loop below would return it (T1: 69 % of the rays).
-        return FrontToBackCompositor(spec.terminationTransmittance).radiance;
+        // is the empty compositor's, as the loop below would return it (T1: 69 % of the rays;
+        // the pixel loop calls traceMissedPacketRay for them instead).
+        return traceMissedPacketRay(stats);
     }
+    ++stats.rays;
     const SurfaceScene* surfaces = scene_.surfaces();
     const std::vector<SceneVolume>& volumeObjects = scene_.volumeObjects();
     const double rouletteOffset = rng.uniform();  // the shading roulette's offset (below)

@@ -137,11 +137,16 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
     }
     p = buffer.data();
     const std::optional<SurfaceHit>* firstHit = packets ? firstHits.data() : nullptr;
+    // A packet ray that met no surface, without a backdrop, is trace()'s at once: no call.
+    const bool missesEmpty = packets && !scene.backdrop().enabled();
     for (int x = x0; x < x1; ++x) {
         Spectrum sum;
         for (int s = 0; s < spp; ++s, ++p) {
-            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats, nullptr,
-                                    firstHit);
+            if (missesEmpty && !firstHit->has_value())
+                sum += integrator.traceMissedPacketRay(stats);
+            else
+                sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats,
+                                        nullptr, firstHit);
             if (firstHit) ++firstHit;
         }
         store(x, PixelSamples(sampling, strata, x, y).meanOf(sum));
