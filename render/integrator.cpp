@@ -270,10 +270,10 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
 
     const double w0 = spec.shadingRoulette;
     ShadingRoulette roulette(rouletteOffset, w0);
-    // Composites every volume sample with t < tEnd in depth order; false once opaque. Every
-    // volume without a pending sample is asked for its next one before t < tEnd once; after that
-    // only the volume whose sample was composited is asked again (a sampler that returned false
-    // for tEnd returns false for it again and moves nothing: VolumeRaySampler::next).
+    // Composites every volume sample with t < tEnd in depth order; false once opaque. Each volume
+    // without a pending sample is asked once for its next sample before tEnd; after that only
+    // the volume whose sample was composited is asked again (a sampler that returned false for
+    // tEnd returns false for it again and moves nothing: VolumeRaySampler::next).
     auto volumesUpTo = [&](double tEnd) {
         if (nv == 0) return true;
         for (size_t i = 0; i < nv; ++i)
