@@ -37,6 +37,10 @@ public:
     const Vec3& forward() const { return forward_; }
     const Vec3& right() const { return right_; }
     const Vec3& up() const { return up_; }
+    // tan(vfov/2) and tan(vfov/2)·aspect: the image plane's half extents at distance 1.
+    double halfHeight() const { return halfHeight_; }
+    double halfWidth() const { return halfWidth_; }
+    const CropWindow& crop() const { return crop_; }
 
 private:
     Vec3 position_{0.0};

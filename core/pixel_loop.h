@@ -49,6 +49,12 @@ public:
         rng = pixelSampleRng(sampling_.seed, uint32_t(x_), uint32_t(y_), uint32_t(s));
         return jitteredSample(strata_, s, rng);
     }
+    // The same draws as start(), the jitter left in stratum units (jitteredStratumPoint): for
+    // callers that divide many samples at once (render/render_scene.cpp, core/camera_rays.h).
+    Vec2 startInStrata(int s, Rng& rng) const {
+        rng = pixelSampleRng(sampling_.seed, uint32_t(x_), uint32_t(y_), uint32_t(s));
+        return jitteredStratumPoint(strata_, s, rng);
+    }
 
     // The mean of fn(j, rng) → Spectrum over the samples; a non-finite mean becomes 0, so no
     // NaN or Inf reaches an image.

@@ -236,18 +236,19 @@ Ray Integrator::firstSurfaceSegment(const Ray& ray) const {
 Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& st,
                            RenderStats& stats, EventSink* sink,
                            const std::optional<SurfaceHit>* firstHit) const {
-    ++stats.rays;
     const SceneSpec& spec = scene_.spec();
     const Backdrop& backdrop = scene_.backdrop();
     if (firstHit && !firstHit->has_value() && !backdrop.enabled() && !sink) {
         // A camera ray of a packet scene (firstHitsInPackets: opaque surfaces only, no volumes
         // or caps) that met no surface, with no backdrop: nothing is composited, so its radiance
-        // is the empty compositor's, as the loop below would return it (T1: 69 % of the rays).
-        return FrontToBackCompositor(spec.terminationTransmittance).radiance;
+        // is the empty compositor's, as the loop below would return it (T1: 69 % of the rays;
+        // the pixel loop calls traceMissedPacketRay for them instead).
+        return traceMissedPacketRay(stats);
     }
+    ++stats.rays;
     const SurfaceScene* surfaces = scene_.surfaces();
     const std::vector<SceneVolume>& volumeObjects = scene_.volumeObjects();
-    double rouletteSum = rng.uniform();  // the shading roulette's offset (below)
+    const double rouletteOffset = rng.uniform();  // the shading roulette's offset (below)
     FrontToBackCompositor out(spec.terminationTransmittance);
 
     const size_t nv = volumeObjects.size();
@@ -267,16 +268,28 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
     const double tBackdrop = backdropDistance(ray);
     const Vec3 toViewer = -ray.d;
 
-    // Composites every volume sample with t < tEnd in depth order; false once opaque.
+    const double w0 = spec.shadingRoulette;
+    ShadingRoulette roulette(rouletteOffset, w0);
+    // Composites every volume sample with t < tEnd in depth order; false once opaque. Each volume
+    // without a pending sample is asked once for its next sample before tEnd; after that only
+    // the volume whose sample was composited is asked again (a sampler that returned false for
+    // tEnd returns false for it again and moves nothing: VolumeRaySampler::next).
     auto volumesUpTo = [&](double tEnd) {
         if (nv == 0) return true;
+        for (size_t i = 0; i < nv; ++i)
+            if (!st.hasPending[i])
+                st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i], false);
         for (;;) {
             int best = -1;
-            for (size_t i = 0; i < nv; ++i) {
-                if (!st.hasPending[i])
-                    st.hasPending[i] = st.samplers[i].next(tEnd, st.pending[i], false);
-                if (st.hasPending[i] && (best < 0 || st.pending[i].t < st.pending[best].t))
-                    best = int(i);
+            if (nv == 1) {
+                best = st.hasPending[0] ? 0 : -1;
+            } else {
+                double tBest = kInf;
+                for (size_t i = 0; i < nv; ++i)
+                    if (st.hasPending[i] && (best < 0 || st.pending[i].t < tBest)) {
+                        best = int(i);
+                        tBest = st.pending[i].t;
+                    }
             }
             if (best < 0) return true;
             const SceneVolume& vo = volumeObjects[best];
@@ -288,18 +301,11 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
             // updated exactly, so the weights along a ray do not depend on the draws. The draws
             // are systematic (one uniform offset per ray, as in systematic resampling — Kitagawa
             // 1996): a running sum of w/w0 from that offset, and a sample is shaded when the sum
-            // crosses an integer. Each sample's probability is still exactly w/w0, but the shaded
-            // samples are spread evenly over the ray's faint weight instead of clumping, which
-            // lowers the noise at the same cost.
+            // crosses an integer (ShadingRoulette, render/compositor.h). Each sample's
+            // probability is still exactly w/w0, but the shaded samples are spread evenly over
+            // the ray's faint weight instead of clumping, which lowers the noise at the same cost.
             const double weight = out.transmittance * s.alpha;
-            const double w0 = spec.shadingRoulette;
-            bool shade = weight >= w0;
-            if (!shade) {
-                const double before = rouletteSum;
-                rouletteSum += weight / w0;
-                shade = std::floor(rouletteSum) > std::floor(before);
-            }
-            Spectrum L(0.0);
+            const bool shade = weight >= w0 || roulette.draw(weight);
             if (shade) {
                 st.samplers[best].addNormal(s);
                 ShadingPoint point;
@@ -312,22 +318,28 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                     point.frame =
                         Frame::fromNormalAndAxis(s.normal, vo.tangent.axis, vo.tangent.fallback);
                 point.shadow = shadowsAt(s.position, nullptr, rng, st);
-                L = shadeCounted(point, toViewer, spec.lights, cost, vo.objectIndex,
-                                 &CostCounters::volumeShadingSeconds);
+                Spectrum L = shadeCounted(point, toViewer, spec.lights, cost, vo.objectIndex,
+                                          &CostCounters::volumeShadingSeconds);
                 const double scale = weight < w0 ? w0 / weight : 1.0;
                 if (weight < w0) L *= scale;
                 ++stats.volumeShaded;
                 if (sink)
                     sink->onEvent({vo.objectIndex, s.t, s.alpha, out.transmittance, weight * scale,
                                    &point, L});
-            } else if (sink) {
-                sink->onEvent(
-                    {vo.objectIndex, s.t, s.alpha, out.transmittance, 0.0, nullptr, Spectrum(0.0)});
+                out.add(s.alpha, L);
+            } else {
+                if (sink)
+                    sink->onEvent({vo.objectIndex, s.t, s.alpha, out.transmittance, 0.0, nullptr,
+                                   Spectrum(0.0)});
+                // Radiance 0: only the transmittance changes (FrontToBackCompositor::pass).
+                out.pass(s.alpha);
             }
-            out.add(s.alpha, L);
-            st.hasPending[best] = 0;
             ++stats.volumeSamples;
-            if (out.terminated()) return false;
+            if (out.terminated()) {
+                st.hasPending[best] = 0;
+                return false;
+            }
+            st.hasPending[best] = st.samplers[best].next(tEnd, s, false);
         }
     };
 

@@ -35,6 +35,7 @@
 #include "core/light.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
+#include "render/compositor.h"
 #include "render/render_cost.h"
 #include "volume/volume_marcher.h"
 
@@ -131,6 +132,14 @@ public:
     // (render_scene.cpp, renderRow): surfaces all opaque, no volumes, caps, clips or masks (T1's
     // exact skull: docs/performance.md).
     bool firstHitsInPackets() const { return firstHitsInPackets_; }
+    // What trace() returns, at once, for a camera ray whose packet search met no surface when the
+    // scene has no backdrop (and no sink is given): nothing is composited, so the empty
+    // compositor's radiance, and the ray is counted. Inline, so that the pixel loop makes no call
+    // for these rays (render_scene.cpp, renderRow; T1: 69 % of the rays).
+    Spectrum traceMissedPacketRay(RenderStats& stats) const {
+        ++stats.rays;
+        return FrontToBackCompositor().radiance;
+    }
     // The part of `ray` trace() first searches the surfaces on: up to the backdrop, if the ray
     // meets it before its end.
     Ray firstSurfaceSegment(const Ray& ray) const;

@@ -1,5 +1,6 @@
 #include "render/render_scene.h"
 
+#include "core/camera_rays.h"
 #include "core/memory.h"
 #include "core/pixel_loop.h"
 #include "core/rng.h"
@@ -54,20 +55,58 @@ struct PreparedSample {
 // The pixels [x0, x1) of row y, each exactly as pixelValue makes it: first every sample's
 // stream, jitter and camera ray (independent chains of hashes, divisions and a square root that
 // the processor overlaps when they are not separated by a trace each: about 50 ns a pixel of
-// latency otherwise), then the traces in the same order, each pixel's sum in sample order.
+// latency otherwise; the divisions and square roots several samples at a time with SIMD,
+// cameraRayDirections, core/camera_rays.h), then the traces in the same order, each pixel's sum
+// in sample order.
 template <class Store>
 void renderRow(const Scene& scene, const Integrator& integrator, const PixelSampling& sampling,
                const StrataGrid& strata, int y, int x0, int x1, TraceState& state,
                RenderStats& stats, std::vector<PreparedSample>& buffer, const Store& store) {
     const int spp = sampling.samplesPerPixel;
-    buffer.resize(size_t(x1 - x0) * size_t(spp));
+    const size_t n = size_t(x1 - x0) * size_t(spp);
+    buffer.resize(n);
+    // The samples' pixels and stratum points, then their rays' directions (SIMD).
+    thread_local std::vector<double> points;
+    points.resize(7 * n);
+    double* px = points.data();
+    double* py = px + n;
+    double* sx = py + n;
+    double* sy = sx + n;
+    double* dx = sy + n;
+    double* dy = dx + n;
+    double* dz = dy + n;
     PreparedSample* p = buffer.data();
+    size_t i = 0;
     for (int x = x0; x < x1; ++x) {
         const PixelSamples samples(sampling, strata, x, y);
-        for (int s = 0; s < spp; ++s, ++p) {
-            const Vec2 j = samples.start(s, p->rng);
-            p->camera = cameraSample(scene, x, y, j, p->rng);
+        for (int s = 0; s < spp; ++s, ++p, ++i) {
+            // cameraSample's draws in its order: the jitter, then the lattice offset.
+            const Vec2 j = samples.startInStrata(s, p->rng);
+            px[i] = x;
+            py[i] = y;
+            sx[i] = j.x;
+            sy[i] = j.y;
+            p->camera.jitter = p->rng.uniform();
         }
+    }
+    const SceneSpec& spec = scene.spec();
+    CameraSamplePoints pts;
+    pts.n = int(n);
+    pts.x = px;
+    pts.y = py;
+    pts.sx = sx;
+    pts.sy = sy;
+    pts.cols = strata.cols;
+    pts.rows = strata.rows;
+    pts.width = spec.width;
+    pts.height = spec.height;
+    const PinholeCamera& camera = scene.camera();
+    cameraRayDirections(camera, pts, dx, dy, dz);
+    for (i = 0; i < n; ++i) {
+        Ray& ray = buffer[i].camera.ray;
+        ray = Ray();
+        ray.o = camera.position();
+        ray.d = Vec3(dx[i], dy[i], dz[i]);
     }
     // Then, for opaque surface-only scenes, the first hits of 8 camera rays at a time: Embree
     // walks its tree once for the 8 neighbouring rays (SurfaceScene::intersect8, the same hits;
@@ -98,11 +137,16 @@ void renderRow(const Scene& scene, const Integrator& integrator, const PixelSamp
     }
     p = buffer.data();
     const std::optional<SurfaceHit>* firstHit = packets ? firstHits.data() : nullptr;
+    // A packet ray that met no surface, without a backdrop, is trace()'s at once: no call.
+    const bool missesEmpty = packets && !scene.backdrop().enabled();
     for (int x = x0; x < x1; ++x) {
         Spectrum sum;
         for (int s = 0; s < spp; ++s, ++p) {
-            sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats, nullptr,
-                                    firstHit);
+            if (missesEmpty && !firstHit->has_value())
+                sum += integrator.traceMissedPacketRay(stats);
+            else
+                sum += integrator.trace(p->camera.ray, p->camera.jitter, p->rng, state, stats,
+                                        nullptr, firstHit);
             if (firstHit) ++firstHit;
         }
         store(x, PixelSamples(sampling, strata, x, y).meanOf(sum));
