@@ -1,5 +1,7 @@
 #include "render/shading.h"
 
+#include "render/shading_simd.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -66,6 +68,36 @@ ShadingTerms shadeTermsLoop(View& specular, const Material& m, const Frame& fram
     return {lambert, spec};
 }
 
+// Phong with one whole exponent for all bands (the usual case, and T2's and T3's): the light loop
+// as one SIMD kernel (render/shading_simd.h), the same sums bit for bit. Fills `in` from the
+// point and returns true when the material is such a Phong and the viewer is above the surface;
+// false for every other material (the loops above). wo = frame.toLocal(toViewer).
+inline bool phongKernelInput(const Material& m, const Frame& frame, const Vec3& position,
+                             const Vec3& wo, const double* shadow, PhongPointInput& in) {
+    const Phong* phong = std::get_if<Phong>(&m.specular);
+    if (!phong) return false;
+    const Spectrum& e = phong->exponent;
+    if (!(e[0] == e[1] && e[1] == e[2] && isWholeExponent(e[0]))) return false;
+    in.position = position;
+    in.frame = frame;
+    in.wo = wo;
+    in.exponent = static_cast<unsigned>(e[0]);
+    const Spectrum diffuse = m.kd * kInvPi;
+    for (int b = 0; b < kBandCount; ++b) {
+        in.ks[b] = phong->ks[b];
+        in.diffuse[b] = diffuse[b];
+    }
+    in.specularScale = m.specularScale;
+    in.specularOn = m.specularOn;
+    in.shadow = shadow;
+    return true;
+}
+
+template <class OnEvaluation>
+void countEvaluations(OnEvaluation& onEvaluation, long long n) {
+    for (long long i = 0; i < n; ++i) onEvaluation();
+}
+
 template <class OnEvaluation>
 Spectrum directLightingImpl(const Material& material, const Frame& frameIn, const Vec3& position,
                             const Vec3& toViewer, const std::vector<PointLight>& lights,
@@ -73,6 +105,14 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
                             const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     const Vec3 wo = frame.toLocal(toViewer);
+    PhongPointInput in;
+    if (phongKernelInput(material, frame, position, wo, shadow, in)) {
+        if (!(wo.z > 0.0)) return Spectrum(0.0);
+        PhongSums sums;
+        phongLightSums(in, lights, true, sums);
+        countEvaluations(onEvaluation, sums.evaluations);
+        return Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+    }
     return visitAtView(material.specular, wo, [&](auto& specular) {
         return directLightingLoop(specular, material, frame, position, toViewer, lights, shadow,
                                   onEvaluation);
@@ -113,10 +153,21 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
     }
     const Frame frame = facingViewer(point.frame, toViewer);
     const Vec3 wo = frame.toLocal(toViewer);
-    terms = visitAtView(m.specular, wo, [&](auto& specular) {
-        return shadeTermsLoop(specular, m, frame, point.position, toViewer, lights, point.shadow,
-                              onEvaluation);
-    });
+    PhongPointInput in;
+    if (phongKernelInput(m, frame, point.position, wo, point.shadow, in)) {
+        if (wo.z > 0.0) {  // else nothing is lit (forEachLightInFrame)
+            PhongSums sums;
+            phongLightSums(in, lights, false, sums);
+            countEvaluations(onEvaluation, sums.evaluations);
+            terms.lambert = Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+            terms.specular = Spectrum(sums.specular[0], sums.specular[1], sums.specular[2]);
+        }
+    } else {
+        terms = visitAtView(m.specular, wo, [&](auto& specular) {
+            return shadeTermsLoop(specular, m, frame, point.position, toViewer, lights,
+                                  point.shadow, onEvaluation);
+        });
+    }
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
     return terms;

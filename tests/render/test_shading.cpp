@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace lobe {
 namespace {
@@ -160,12 +161,17 @@ ShadingTerms shadeTerms(const ShadingPoint& point, const Vec3& toViewer,
 }
 
 Spectrum directLighting(const Material& m, const Frame& frameIn, const Vec3& position,
-                        const Vec3& toViewer, const std::vector<PointLight>& lights) {
+                        const Vec3& toViewer, const std::vector<PointLight>& lights,
+                        const double* shadow = nullptr) {
     const Frame frame = facingViewer(frameIn, toViewer);
     Spectrum radiance;
     reference::forEachLightInFrame(
         lights, frame, position, toViewer,
         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
+            if (shadow) {
+                g *= shadow[&light - lights.data()];
+                if (!(g > 0.0)) return;
+            }
             Spectrum f = m.kd * kInvPi;
             if (m.specularOn) f += evalBrdf(m.specular, wi, wo) * m.specularScale;
             radiance += f * light.intensity * g;
@@ -179,8 +185,9 @@ bool sameBits(const Spectrum& a, const Spectrum& b) {
     return std::memcmp(a.v.data(), b.v.data(), sizeof a.v) == 0;
 }
 
-TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
-    Rng rng(31, 7);
+// 200 random points of material m (its specularOn is varied) against the plain loop; returns the
+// number of cases.
+int checkAgainstThePlainLoop(Material m, const std::string& name, Rng& rng) {
     const auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * rng.uniform(); };
     const auto unit = [&] {
         for (;;) {
@@ -189,56 +196,86 @@ TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
         }
     };
     int cases = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const int n = 1 + trial % 11;
+        std::vector<PointLight> lights;
+        std::vector<double> shadow;
+        const Vec3 p(uniform(-50, 50), uniform(-50, 50), uniform(-50, 50));
+        for (int i = 0; i < n; ++i) {
+            const Vec3 at = trial % 17 == 0 && i == n - 1 ? p  // a light at the point: skipped
+                                                          : p + unit() * uniform(0.5, 400.0);
+            lights.push_back({at, Spectrum(uniform(10, 1e5), uniform(10, 1e5), 50.0)});
+            shadow.push_back(i % 4 == 3 ? 0.0 : uniform(0.0, 1.0));
+        }
+        ShadingPoint point;
+        point.material = &m;
+        point.colour = Spectrum(0.9, 0.6, 0.3);
+        point.highlight = trial % 2 ? Spectrum(1.0) : point.colour;
+        point.position = p;
+        point.frame = Frame::fromNormalAndAxis(unit(), Vec3(0, 0, 1), Vec3(1, 0, 0));
+        point.shadow = trial % 3 == 0 ? shadow.data() : nullptr;
+        m.specularOn = trial % 13 != 0;
+        const Vec3 toViewer = unit();
+
+        long long expectedCount = 0, count = 0;
+        const ShadingTerms a = shadeTerms(point, toViewer, lights);
+        const ShadingTerms b = reference::shadeTerms(point, toViewer, lights, expectedCount);
+        EXPECT_TRUE(sameBits(a.lambert, b.lambert)) << name << " trial " << trial;
+        EXPECT_TRUE(sameBits(a.specular, b.specular)) << name << " trial " << trial;
+        const Spectrum L = shade(point, toViewer, lights, count);
+        EXPECT_EQ(count, expectedCount) << name << " trial " << trial;
+        if (point.highlight == point.colour) {
+            const Spectrum ref =
+                point.colour *
+                reference::directLighting(m, point.frame, p, toViewer, lights, point.shadow);
+            EXPECT_TRUE(sameBits(L, ref)) << name << " " << trial;
+            EXPECT_TRUE(sameBits(directLighting(m, point.frame, p, toViewer, lights, true),
+                                 reference::directLighting(m, point.frame, p, toViewer, lights)))
+                << name << " trial " << trial;
+        } else {
+            EXPECT_TRUE(sameBits(L, b.lambert + b.specular)) << name << " " << trial;
+        }
+        ++cases;
+    }
+    return cases;
+}
+
+TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
+    Rng rng(31, 7);
+    int cases = 0;
     for (const BrdfModelInfo& info : brdfModels()) {
         Material m;
         m.specular = makeBrdf(info.name);
         m.kd = Spectrum(0.2, 0.5, 0.7);
         m.specularScale = 0.8;
-        for (int trial = 0; trial < 200; ++trial) {
-            const int n = 1 + trial % 11;
-            std::vector<PointLight> lights;
-            std::vector<double> shadow;
-            const Vec3 p(uniform(-50, 50), uniform(-50, 50), uniform(-50, 50));
-            for (int i = 0; i < n; ++i) {
-                const Vec3 at = trial % 17 == 0 && i == n - 1 ? p  // a light at the point: skipped
-                                                              : p + unit() * uniform(0.5, 400.0);
-                lights.push_back({at, Spectrum(uniform(10, 1e5), uniform(10, 1e5), 50.0)});
-                shadow.push_back(i % 4 == 3 ? 0.0 : uniform(0.0, 1.0));
-            }
-            ShadingPoint point;
-            point.material = &m;
-            point.colour = Spectrum(0.9, 0.6, 0.3);
-            point.highlight = trial % 2 ? Spectrum(1.0) : point.colour;
-            point.position = p;
-            point.frame = Frame::fromNormalAndAxis(unit(), Vec3(0, 0, 1), Vec3(1, 0, 0));
-            point.shadow = trial % 3 == 0 ? shadow.data() : nullptr;
-            m.specularOn = trial % 13 != 0;
-            const Vec3 toViewer = unit();
-
-            long long expectedCount = 0, count = 0;
-            const ShadingTerms a = shadeTerms(point, toViewer, lights);
-            const ShadingTerms b = reference::shadeTerms(point, toViewer, lights, expectedCount);
-            EXPECT_TRUE(sameBits(a.lambert, b.lambert)) << info.name << " trial " << trial;
-            EXPECT_TRUE(sameBits(a.specular, b.specular)) << info.name << " trial " << trial;
-            const Spectrum L = shade(point, toViewer, lights, count);
-            EXPECT_EQ(count, expectedCount) << info.name << " trial " << trial;
-            if (point.highlight == point.colour) {
-                const Spectrum ref =
-                    point.colour * reference::directLighting(m, point.frame, p, toViewer, lights);
-                if (!point.shadow) {
-                    EXPECT_TRUE(sameBits(L, ref)) << info.name << " " << trial;
-                }
-                EXPECT_TRUE(
-                    sameBits(directLighting(m, point.frame, p, toViewer, lights, true),
-                             reference::directLighting(m, point.frame, p, toViewer, lights)))
-                    << info.name << " trial " << trial;
-            } else {
-                EXPECT_TRUE(sameBits(L, b.lambert + b.specular)) << info.name << " " << trial;
-            }
-            ++cases;
-        }
+        cases += checkAgainstThePlainLoop(m, info.name, rng);
     }
     EXPECT_EQ(cases, 200 * int(brdfModels().size()));
+}
+
+// Phong with one whole exponent goes through the SIMD kernel (render/shading_simd.h); the other
+// exponents through the model's own loop. Every form against the plain loop, bit for bit: whole
+// exponents 0, 1, 2, 30 (T2's) and the largest, 1024; fractional and > 1024 ones (std::pow);
+// per-band exponents; ks of 0 and a specular scale other than 1.
+TEST(Shading, PhongKernelEqualsThePlainLoopBitForBit) {
+    Rng rng(32, 3);
+    int cases = 0;
+    const std::vector<Spectrum> exponents = {Spectrum(0.0),    Spectrum(1.0),       Spectrum(2.0),
+                                             Spectrum(30.0),   Spectrum(1024.0),    Spectrum(7.5),
+                                             Spectrum(2000.0), Spectrum(10, 20, 30)};
+    for (const Spectrum& e : exponents) {
+        for (const Spectrum& ks : {Spectrum(0.3), Spectrum(0.9, 0.4, 0.0)}) {
+            Material m;
+            Phong phong;
+            phong.exponent = e;
+            phong.ks = ks;
+            m.specular = phong;
+            m.kd = Spectrum(0.8, 0.75, 0.1);
+            m.specularScale = 1.7;
+            cases += checkAgainstThePlainLoop(m, "phong " + std::to_string(e[2]), rng);
+        }
+    }
+    EXPECT_EQ(cases, 200 * 2 * int(exponents.size()));
 }
 
 }  // namespace
