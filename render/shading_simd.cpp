@@ -25,8 +25,8 @@ using V = hn::Vec<D>;
 
 constexpr int kChunk = 8;  // lights per pass
 
-void PhongLightSumsImpl(const PhongPointInput& point, const std::vector<PointLight>& lights,
-                        bool combined, PhongSums& sums) {
+void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, bool combined,
+                        PhongSums& sums) {
     const D d;
     const int lanes = int(hn::Lanes(d));
     const Frame& frame = point.frame;
@@ -41,27 +41,25 @@ void PhongLightSumsImpl(const PhongPointInput& point, const std::vector<PointLig
     const V zero = hn::Zero(d), one = hn::Set(d, 1.0), big = hn::Set(d, kMaxBrdfValue);
     const V scale = hn::Set(d, point.specularScale);
 
-    const int n = int(lights.size());
+    const int n = table.count;
     for (int start = 0; start < n; start += kChunk) {
         const int count = std::min(n - start, kChunk);
-        HWY_ALIGN double lx[kChunk] = {}, ly[kChunk] = {}, lz[kChunk] = {}, sh[kChunk] = {};
-        HWY_ALIGN double g[kChunk], power[kChunk], lit[kChunk];
-        HWY_ALIGN double intensity[kChunk][4];
-        for (int k = 0; k < count; ++k) {
-            const PointLight& light = lights[size_t(start + k)];
-            lx[k] = light.position.x;
-            ly[k] = light.position.y;
-            lz[k] = light.position.z;
-            sh[k] = point.shadow ? point.shadow[start + k] : 1.0;
-            for (int b = 0; b < kBandCount; ++b) intensity[k][b] = light.intensity[b];
-            intensity[k][3] = 0.0;
+        const double* lx = table.px + start;
+        const double* ly = table.py + start;
+        const double* lz = table.pz + start;
+        const double* sh = point.shadow ? point.shadow + start : nullptr;
+        HWY_ALIGN double shTail[kChunk] = {};
+        if (sh && count % lanes != 0) {  // the last vector would read past the caller's array
+            std::copy(sh, sh + count, shTail);
+            sh = shTail;
         }
+        HWY_ALIGN double g[kChunk], power[kChunk], lit[kChunk];
         // Lights as lanes: core/light_directions.cpp's operations, then Phong's power.
         for (int i = 0; i < count; i += lanes) {
             // toLight = light − position; d² = (x·x + y·y) + z·z; u = toLight / √d².
-            const V dx = hn::Sub(hn::Load(d, lx + i), px);
-            const V dy = hn::Sub(hn::Load(d, ly + i), py);
-            const V dz = hn::Sub(hn::Load(d, lz + i), pz);
+            const V dx = hn::Sub(hn::LoadU(d, lx + i), px);
+            const V dy = hn::Sub(hn::LoadU(d, ly + i), py);
+            const V dz = hn::Sub(hn::LoadU(d, lz + i), pz);
             const V d2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
             const V s = hn::Sqrt(d2);
             const V ux = hn::Div(dx, s), uy = hn::Div(dy, s), uz = hn::Div(dz, s);
@@ -71,8 +69,8 @@ void PhongLightSumsImpl(const PhongPointInput& point, const std::vector<PointLig
             const V wz = hn::Add(hn::Add(hn::Mul(ux, nx), hn::Mul(uy, ny)), hn::Mul(uz, nz));
             V gi = hn::Div(wz, d2);
             auto ok = hn::And(hn::Lt(zero, d2), hn::Lt(zero, wz));
-            if (point.shadow) {
-                gi = hn::Mul(gi, hn::Load(d, sh + i));
+            if (sh) {
+                gi = hn::Mul(gi, hn::LoadU(d, sh + i));
                 ok = hn::And(ok, hn::Lt(zero, gi));
             }
             // cos α = max(0, r(wi)·wo), Imath's dot order; std::max(0, c) = 0 < c ? c : 0.
@@ -97,7 +95,7 @@ void PhongLightSumsImpl(const PhongPointInput& point, const std::vector<PointLig
             V lambert = hn::LoadU(d, sums.lambert + b), spec = hn::LoadU(d, sums.specular + b);
             for (int k = 0; k < count; ++k) {
                 if (lit[k] == 0.0) continue;
-                const V I = hn::Load(d, intensity[k] + b);
+                const V I = hn::LoadU(d, table.intensity + 4 * (start + k) + b);
                 const V gk = hn::Set(d, g[k]);
                 V f = zero;
                 if (point.specularOn) {
@@ -134,7 +132,8 @@ HWY_EXPORT(PhongLightSumsImpl);
 
 void phongLightSums(const PhongPointInput& point, const std::vector<PointLight>& lights,
                     bool combined, PhongSums& sums) {
-    HWY_DYNAMIC_DISPATCH(PhongLightSumsImpl)(point, lights, combined, sums);
+    // The lights in the kernel's form, kept per thread (core/light_table.h).
+    HWY_DYNAMIC_DISPATCH(PhongLightSumsImpl)(point, lightTable(lights), combined, sums);
 }
 
 }  // namespace lobe
