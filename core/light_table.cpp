@@ -1,8 +1,5 @@
 #include "core/light_table.h"
 
-#include <cstdint>
-#include <cstring>
-
 namespace lobe {
 
 void LightTable::assign(const std::vector<PointLight>& lights) {
@@ -24,29 +21,6 @@ void LightTable::assign(const std::vector<PointLight>& lights) {
     py = y;
     pz = z;
     intensity = in;
-}
-
-bool LightTable::holds(const std::vector<PointLight>& lights) const {
-    if (source_.size() != lights.size()) return false;
-    // The bits of every double (PointLight is six doubles), without a call to memcmp.
-    static_assert(sizeof(PointLight) == 6 * sizeof(double));
-    const size_t words = lights.size() * 6;
-    const auto* a = reinterpret_cast<const unsigned char*>(source_.data());
-    const auto* b = reinterpret_cast<const unsigned char*>(lights.data());
-    std::uint64_t differ = 0;
-    for (size_t i = 0; i < words; ++i) {
-        std::uint64_t u, v;
-        std::memcpy(&u, a + 8 * i, 8);
-        std::memcpy(&v, b + 8 * i, 8);
-        differ |= u ^ v;
-    }
-    return differ == 0;
-}
-
-const LightTable& lightTable(const std::vector<PointLight>& lights) {
-    thread_local LightTable table;
-    if (!table.holds(lights)) table.assign(lights);
-    return table;
 }
 
 }  // namespace lobe

@@ -9,6 +9,8 @@
 #include "core/math.h"
 #include "core/spectrum.h"
 
+#include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace lobe {
@@ -32,7 +34,21 @@ struct LightTable {
     LightTable(const LightTable&) = delete;
     LightTable& operator=(const LightTable&) = delete;
     void assign(const std::vector<PointLight>& lights);
-    bool holds(const std::vector<PointLight>& lights) const;  // the same lights, bit for bit
+    // The same lights, bit for bit (PointLight is six doubles), without a call to memcmp.
+    bool holds(const std::vector<PointLight>& lights) const {
+        if (source_.size() != lights.size()) return false;
+        static_assert(sizeof(PointLight) == 6 * sizeof(double));
+        const auto* a = reinterpret_cast<const unsigned char*>(source_.data());
+        const auto* b = reinterpret_cast<const unsigned char*>(lights.data());
+        std::uint64_t differ = 0;
+        for (size_t i = 0; i < lights.size() * 6; ++i) {
+            std::uint64_t u, v;
+            std::memcpy(&u, a + 8 * i, 8);
+            std::memcpy(&v, b + 8 * i, 8);
+            differ |= u ^ v;
+        }
+        return differ == 0;
+    }
 
 private:
     std::vector<PointLight> source_;
@@ -41,6 +57,11 @@ private:
 
 // The table of `lights`, kept per thread: rebuilt when the lights differ (compared bit for bit)
 // from those of the last call on this thread. Valid until the next call on the same thread.
-const LightTable& lightTable(const std::vector<PointLight>& lights);
+// Inline: it runs at every shaded point.
+inline const LightTable& lightTable(const std::vector<PointLight>& lights) {
+    thread_local LightTable table;
+    if (!table.holds(lights)) table.assign(lights);
+    return table;
+}
 
 }  // namespace lobe

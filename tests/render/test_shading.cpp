@@ -280,3 +280,45 @@ TEST(Shading, PhongKernelEqualsThePlainLoopBitForBit) {
 
 }  // namespace
 }  // namespace lobe
+
+namespace lobe {
+namespace {
+
+// The light loop reads the lights from a per-thread table (core/light_table.h). Lights changed in
+// place — the same vector, the same address — must be seen at the next point, as must a second
+// set of lights used in between: every light loop (the Phong kernel and the others) against the
+// plain loop after each change.
+TEST(Shading, LightTableFollowsLightsChangedInPlace) {
+    Material phong, ward;
+    phong.specular = Phong{};
+    ward.specular = Ward{};
+    ShadingPoint point;
+    point.colour = Spectrum(0.9, 0.6, 0.3);
+    point.highlight = Spectrum(1.0);
+    point.position = Vec3(1, 2, 3);
+    point.frame =
+        Frame::fromNormalAndAxis(normalized(Vec3(0.1, 0.2, 1)), Vec3(0, 0, 1), Vec3(1, 0, 0));
+    const Vec3 toViewer = normalized(Vec3(0.3, -0.1, 1));
+    std::vector<PointLight> lights = {{Vec3(4, 5, 20), Spectrum(100.0)},
+                                      {Vec3(-3, 1, 15), Spectrum(50.0)}};
+    const std::vector<PointLight> others = {{Vec3(2, -6, 9), Spectrum(70.0)}};
+    for (int change = 0; change < 4; ++change) {
+        if (change == 1) lights[0].intensity = Spectrum(400.0, 30.0, 5.0);
+        if (change == 2) lights[1].position = Vec3(6, 6, 8);
+        if (change == 3) lights.push_back({Vec3(0, 0, 30), Spectrum(9.0)});
+        for (const Material* m : {&phong, &ward}) {
+            point.material = m;
+            long long n = 0;
+            const ShadingTerms a = shadeTerms(point, toViewer, lights);
+            const ShadingTerms b = reference::shadeTerms(point, toViewer, lights, n);
+            EXPECT_TRUE(sameBits(a.lambert, b.lambert)) << change;
+            EXPECT_TRUE(sameBits(a.specular, b.specular)) << change;
+            const ShadingTerms c = shadeTerms(point, toViewer, others);
+            const ShadingTerms d = reference::shadeTerms(point, toViewer, others, n);
+            EXPECT_TRUE(sameBits(c.lambert, d.lambert)) << change;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace lobe
