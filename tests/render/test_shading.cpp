@@ -7,8 +7,10 @@
 #include "render/shading.h"
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
 
@@ -258,24 +260,34 @@ TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
 // exponents 0, 1, 2, 30 (T2's) and the largest, 1024; fractional and > 1024 ones (std::pow);
 // per-band exponents; ks of 0 and a specular scale other than 1.
 TEST(Shading, PhongKernelEqualsThePlainLoopBitForBit) {
-    Rng rng(32, 3);
-    int cases = 0;
     const std::vector<Spectrum> exponents = {Spectrum(0.0),    Spectrum(1.0),       Spectrum(2.0),
                                              Spectrum(30.0),   Spectrum(1024.0),    Spectrum(7.5),
                                              Spectrum(2000.0), Spectrum(10, 20, 30)};
-    for (const Spectrum& e : exponents) {
-        for (const Spectrum& ks : {Spectrum(0.3), Spectrum(0.9, 0.4, 0.0)}) {
-            Material m;
-            Phong phong;
-            phong.exponent = e;
-            phong.ks = ks;
-            m.specular = phong;
-            m.kd = Spectrum(0.8, 0.75, 0.1);
-            m.specularScale = 1.7;
-            cases += checkAgainstThePlainLoop(m, "phong " + std::to_string(e[2]), rng);
+    // On every SIMD target this CPU runs (the kernel and the light directions are dispatched).
+    int targets = 0;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        Rng rng(32, 3);
+        int cases = 0;
+        for (const Spectrum& e : exponents) {
+            for (const Spectrum& ks : {Spectrum(0.3), Spectrum(0.9, 0.4, 0.0)}) {
+                Material m;
+                Phong phong;
+                phong.exponent = e;
+                phong.ks = ks;
+                m.specular = phong;
+                m.kd = Spectrum(0.8, 0.75, 0.1);
+                m.specularScale = 1.7;
+                cases += checkAgainstThePlainLoop(
+                    m, std::string(hwy::TargetName(target)) + " phong " + std::to_string(e[2]),
+                    rng);
+            }
         }
+        EXPECT_EQ(cases, 200 * 2 * int(exponents.size()));
+        ++targets;
     }
-    EXPECT_EQ(cases, 200 * 2 * int(exponents.size()));
+    hwy::SetSupportedTargetsForTest(0);
+    EXPECT_GE(targets, 1);
 }
 
 }  // namespace
