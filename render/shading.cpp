@@ -68,20 +68,44 @@ ShadingTerms shadeTermsLoop(View& specular, const Material& m, const Frame& fram
     return {lambert, spec};
 }
 
-// Phong with one whole exponent for all bands (the usual case, and T2's and T3's): the light loop
-// as one SIMD kernel (render/shading_simd.h), the same sums bit for bit. Fills `in` from the
-// point and returns true when the material is such a Phong and the viewer is above the surface;
-// false for every other material (the loops above). wo = frame.toLocal(toViewer).
-inline bool phongKernelInput(const Material& m, const Frame& frame, const Vec3& position,
-                             const Vec3& wo, const double* shadow, PhongPointInput& in) {
+// Phong with one whole exponent for all bands (the usual case, and T1's, T2's and T3's): the light
+// loop as one SIMD kernel (render/shading_simd.h). Null for every other material (the loops
+// above).
+inline const Phong* sharedWholePhong(const Material& m) {
     const Phong* phong = std::get_if<Phong>(&m.specular);
-    if (!phong) return false;
+    if (!phong) return nullptr;
     const Spectrum& e = phong->exponent;
-    if (!(e[0] == e[1] && e[1] == e[2] && isWholeExponent(e[0]))) return false;
-    in.position = position;
+    return e[0] == e[1] && e[1] == e[2] && isWholeExponent(e[0]) ? phong : nullptr;
+}
+
+template <class OnEvaluation>
+void countEvaluations(OnEvaluation& onEvaluation, long long n) {
+    for (long long i = 0; i < n; ++i) onEvaluation();
+}
+
+// The kernel's sums for `m` when it is such a Phong (returns false otherwise). `frame` is turned
+// to the viewer already; frameFree: only frame.n is set (ShadingPoint::setNormal), and cos α is
+// worked out without the tangents. Nothing is lit when the viewer is not above the surface
+// (wo.z ≤ 0, as in forEachLightInFrame).
+template <class OnEvaluation>
+bool phongKernelSums(const Material& m, const Frame& frame, bool frameFree, const Vec3& position,
+                     const Vec3& toViewer, const std::vector<PointLight>& lights,
+                     const double* shadow, bool combined, OnEvaluation& onEvaluation,
+                     PhongSums& sums) {
+    const Phong* phong = sharedWholePhong(m);
+    if (!phong) return false;
+    PhongPointInput in;
     in.frame = frame;
-    in.wo = wo;
-    in.exponent = static_cast<unsigned>(e[0]);
+    if (frameFree) {
+        in.frameFree = true;
+        in.toViewer = toViewer;
+        in.wo.z = toViewer.dot(frame.n);  // frame.toLocal(toViewer).z
+    } else {
+        in.wo = frame.toLocal(toViewer);
+    }
+    if (!(in.wo.z > 0.0)) return true;
+    in.position = position;
+    in.exponent = static_cast<unsigned>(phong->exponent[0]);
     const Spectrum diffuse = m.kd * kInvPi;
     for (int b = 0; b < kBandCount; ++b) {
         in.ks[b] = phong->ks[b];
@@ -90,12 +114,14 @@ inline bool phongKernelInput(const Material& m, const Frame& frame, const Vec3& 
     in.specularScale = m.specularScale;
     in.specularOn = m.specularOn;
     in.shadow = shadow;
+    phongLightSums(in, lights, combined, sums);
+    countEvaluations(onEvaluation, sums.evaluations);
     return true;
 }
 
-template <class OnEvaluation>
-void countEvaluations(OnEvaluation& onEvaluation, long long n) {
-    for (long long i = 0; i < n; ++i) onEvaluation();
+// The normal of facingViewer (render/shading.h) alone.
+inline Vec3 facingNormal(const Vec3& n, const Vec3& toViewer) {
+    return n.dot(toViewer) < 0.0 ? -n : n;
 }
 
 template <class OnEvaluation>
@@ -104,15 +130,11 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
                             bool twoSided, OnEvaluation&& onEvaluation,
                             const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
-    const Vec3 wo = frame.toLocal(toViewer);
-    PhongPointInput in;
-    if (phongKernelInput(material, frame, position, wo, shadow, in)) {
-        if (!(wo.z > 0.0)) return Spectrum(0.0);
-        PhongSums sums;
-        phongLightSums(in, lights, true, sums);
-        countEvaluations(onEvaluation, sums.evaluations);
+    PhongSums sums;
+    if (phongKernelSums(material, frame, false, position, toViewer, lights, shadow, true,
+                        onEvaluation, sums))
         return Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
-    }
+    const Vec3 wo = frame.toLocal(toViewer);
     return visitAtView(material.specular, wo, [&](auto& specular) {
         return directLightingLoop(specular, material, frame, position, toViewer, lights, shadow,
                                   onEvaluation);
@@ -127,10 +149,19 @@ template <class OnEvaluation>
 Spectrum shadeImpl(const ShadingPoint& point, const Vec3& toViewer,
                    const std::vector<PointLight>& lights, OnEvaluation&& onEvaluation) {
     if (point.hasFrame) {
-        if (point.highlight == point.colour)
-            return point.colour * directLightingImpl(*point.material, point.frame, point.position,
-                                                     toViewer, lights, true, onEvaluation,
-                                                     point.shadow);
+        if (point.highlight == point.colour) {
+            const Material& m = *point.material;
+            if (point.tangentsPending && sharedWholePhong(m)) {  // frame-free
+                Frame frame;
+                frame.n = facingNormal(point.frame.n, toViewer);
+                PhongSums sums;
+                phongKernelSums(m, frame, true, point.position, toViewer, lights, point.shadow,
+                                true, onEvaluation, sums);
+                return point.colour * Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+            }
+            return point.colour * directLightingImpl(m, frameOf(point), point.position, toViewer,
+                                                     lights, true, onEvaluation, point.shadow);
+        }
         const ShadingTerms terms = shadeTermsImpl(point, toViewer, lights, onEvaluation);
         return terms.lambert + terms.specular;
     }
@@ -151,18 +182,19 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
         terms.lambert = shadeImpl(point, toViewer, lights, onEvaluation);
         return terms;
     }
-    const Frame frame = facingViewer(point.frame, toViewer);
-    const Vec3 wo = frame.toLocal(toViewer);
-    PhongPointInput in;
-    if (phongKernelInput(m, frame, point.position, wo, point.shadow, in)) {
-        if (wo.z > 0.0) {  // else nothing is lit (forEachLightInFrame)
-            PhongSums sums;
-            phongLightSums(in, lights, false, sums);
-            countEvaluations(onEvaluation, sums.evaluations);
-            terms.lambert = Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
-            terms.specular = Spectrum(sums.specular[0], sums.specular[1], sums.specular[2]);
-        }
+    Frame frame;
+    const bool frameFree = point.tangentsPending && sharedWholePhong(m);
+    if (frameFree)
+        frame.n = facingNormal(point.frame.n, toViewer);
+    else
+        frame = facingViewer(frameOf(point), toViewer);
+    PhongSums sums;
+    if (phongKernelSums(m, frame, frameFree, point.position, toViewer, lights, point.shadow, false,
+                        onEvaluation, sums)) {
+        terms.lambert = Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+        terms.specular = Spectrum(sums.specular[0], sums.specular[1], sums.specular[2]);
     } else {
+        const Vec3 wo = frame.toLocal(toViewer);
         terms = visitAtView(m.specular, wo, [&](auto& specular) {
             return shadeTermsLoop(specular, m, frame, point.position, toViewer, lights,
                                   point.shadow, onEvaluation);
@@ -218,7 +250,7 @@ void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
                            Spectrum* out, const double* scales) {
     for (size_t m = 0; m < models.size(); ++m) out[m] = Spectrum(0.0);
     if (!point.hasFrame) return;
-    const Frame frame = facingViewer(point.frame, toViewer);
+    const Frame frame = facingViewer(frameOf(point), toViewer);
     forEachLightInFrame(lights, frame, point.position, toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
                             if (point.shadow) g *= point.shadow[&light - lights.data()];

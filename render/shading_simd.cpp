@@ -38,6 +38,8 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
     // Mirror of wi about n in the local frame, (−wi.x, −wi.y, wi.z) (brdf_common.h, cosAlpha).
     const V wox = hn::Set(d, point.wo.x), woy = hn::Set(d, point.wo.y),
             woz = hn::Set(d, point.wo.z);
+    const V vx = hn::Set(d, point.toViewer.x), vy = hn::Set(d, point.toViewer.y),
+            vz = hn::Set(d, point.toViewer.z);
     const V zero = hn::Zero(d), one = hn::Set(d, 1.0), big = hn::Set(d, kMaxBrdfValue);
     const V scale = hn::Set(d, point.specularScale);
 
@@ -63,9 +65,7 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
             const V d2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
             const V s = hn::Sqrt(d2);
             const V ux = hn::Div(dx, s), uy = hn::Div(dy, s), uz = hn::Div(dz, s);
-            // wi = frame.toLocal(u); g = wi.z / d².
-            const V wx = hn::Add(hn::Add(hn::Mul(ux, tx), hn::Mul(uy, ty)), hn::Mul(uz, tz));
-            const V wy = hn::Add(hn::Add(hn::Mul(ux, bx), hn::Mul(uy, by)), hn::Mul(uz, bz));
+            // wi.z = u·n (frame.toLocal's third term); g = wi.z / d².
             const V wz = hn::Add(hn::Add(hn::Mul(ux, nx), hn::Mul(uy, ny)), hn::Mul(uz, nz));
             V gi = hn::Div(wz, d2);
             auto ok = hn::And(hn::Lt(zero, d2), hn::Lt(zero, wz));
@@ -73,9 +73,19 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
                 gi = hn::Mul(gi, hn::LoadU(d, sh + i));
                 ok = hn::And(ok, hn::Lt(zero, gi));
             }
-            // cos α = max(0, r(wi)·wo), Imath's dot order; std::max(0, c) = 0 < c ? c : 0.
-            const V c = hn::Add(hn::Add(hn::Mul(hn::Neg(wx), wox), hn::Mul(hn::Neg(wy), woy)),
-                                hn::Mul(wz, woz));
+            // cos α = max(0, r(wi)·wo); std::max(0, c) = 0 < c ? c : 0.
+            V c;
+            if (point.frameFree) {
+                // 2 (n·u)(n·v) − u·v
+                const V uv = hn::Add(hn::Add(hn::Mul(ux, vx), hn::Mul(uy, vy)), hn::Mul(uz, vz));
+                c = hn::Sub(hn::Mul(hn::Add(wz, wz), woz), uv);
+            } else {
+                // wi = frame.toLocal(u); r(wi) = (−wi.x, −wi.y, wi.z); Imath's dot order.
+                const V wx = hn::Add(hn::Add(hn::Mul(ux, tx), hn::Mul(uy, ty)), hn::Mul(uz, tz));
+                const V wy = hn::Add(hn::Add(hn::Mul(ux, bx), hn::Mul(uy, by)), hn::Mul(uz, bz));
+                c = hn::Add(hn::Add(hn::Mul(hn::Neg(wx), wox), hn::Mul(hn::Neg(wy), woy)),
+                            hn::Mul(wz, woz));
+            }
             const V cos = hn::IfThenElse(hn::Lt(zero, c), c, zero);
             // powerOfWhole (brdf_common.h): repeated squaring, the same products in the same order.
             V result = one, square = cos;

@@ -26,6 +26,13 @@ struct PhongPointInput {
     double specularScale = 1.0;
     bool specularOn = true;
     const double* shadow = nullptr;  // per light, or null
+    // Frame-free (ShadingPoint::setNormal): only frame.n and wo.z are set, and cos α is worked
+    // out as r(wi)·wo = 2 (n·wi)(n·wo) − wi·wo in world coordinates, wi the unit direction to the
+    // light and wo = toViewer: the same d², wi.z, cos θi / d² and lit lights bit for bit, so the
+    // Lambert sum is identical; cos α to rounding (a few ulps of 1), so the specular sum within
+    // 1e-12 of the framed one relative to Σ ks · s · I · g (tests/render/test_shading.cpp).
+    bool frameFree = false;
+    Vec3 toViewer{0, 0, 1};
 };
 
 // The sums over the lights of forEachLitLight's loop (render/shading.cpp), bands 0 … 2 (the 4th
