@@ -1,4 +1,4 @@
-// Point ("omni") light of intensity I (W/sr per band): irradiance at distance d is I/d² · cos θ.
+// Point ("omni") lights (PointLight, core/light_table.h): irradiance at distance d is I/d² · cos θ.
 // And the one light loop of Lobe: every place that lights a point — surface hits and volume
 // samples (render/shading.h), the backdrop, the BRDF gallery, the flux-overlap lattices — walks
 // the lights through forEachLight or forEachLightInFrame. The paper's renderings have no shadows
@@ -8,6 +8,7 @@
 
 #include "core/frame.h"
 #include "core/light_directions.h"
+#include "core/light_table.h"
 #include "core/math.h"
 #include "core/spectrum.h"
 
@@ -16,11 +17,6 @@
 #include <vector>
 
 namespace lobe {
-
-struct PointLight {
-    Vec3 position{0.0};
-    Spectrum intensity{1.0};
-};
 
 // fn(light, toLight, d²) for every light not at `position`; toLight = light.position − position
 // (not normalised), d² = |toLight|².
@@ -49,18 +45,14 @@ inline void forEachLightInFrame(const std::vector<PointLight>& lights, const Fra
     // toLight = light − position, d² = |toLight|², wi = frame.toLocal(toLight / √d²) and
     // wi.z / d², the same IEEE operations in the same order as one light at a time. fn is then
     // called in the lights' order.
+    // The positions come from the thread's table of the lights (core/light_table.h).
     constexpr int kChunk = LightDirections::kMaxLights;
+    // Fetched per chunk: fn may light another point with other lights, replacing the table.
     const int n = int(lights.size());
     for (int start = 0; start < n; start += kChunk) {
         const int count = std::min(n - start, kChunk);
         LightDirections dirs;
-        for (int k = 0; k < kChunk; ++k) {  // the padding lanes at the origin
-            const Vec3 p = k < count ? lights[size_t(start + k)].position : Vec3(0.0);
-            dirs.px[k] = p.x;
-            dirs.py[k] = p.y;
-            dirs.pz[k] = p.z;
-        }
-        computeLightDirections(dirs, count, position, frame);
+        computeLightDirections(dirs, lightTable(lights), start, count, position, frame);
         for (int k = 0; k < count; ++k)
             if (dirs.d2[k] > 0.0 && dirs.wz[k] > 0.0)
                 fn(lights[size_t(start + k)], Vec3(dirs.wx[k], dirs.wy[k], dirs.wz[k]), wo,

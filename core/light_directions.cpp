@@ -20,7 +20,8 @@ namespace hn = hwy::HWY_NAMESPACE;
 using D = hn::CappedTag<double, 4>;
 using V = hn::Vec<D>;
 
-void LightDirectionsImpl(LightDirections& L, int count, const Vec3& position, const Frame& frame) {
+void LightDirectionsImpl(LightDirections& L, const LightTable& lights, int start, int count,
+                         const Vec3& position, const Frame& frame) {
     const D d;
     const V px = hn::Set(d, position.x), py = hn::Set(d, position.y), pz = hn::Set(d, position.z);
     const V tx = hn::Set(d, frame.t.x), ty = hn::Set(d, frame.t.y), tz = hn::Set(d, frame.t.z);
@@ -29,9 +30,9 @@ void LightDirectionsImpl(LightDirections& L, int count, const Vec3& position, co
     const int lanes = int(hn::Lanes(d));
     for (int i = 0; i < count; i += lanes) {
         // toLight = light − position; d² = toLight · toLight (Imath's dot: (x·x + y·y) + z·z).
-        const V dx = hn::Sub(hn::LoadU(d, L.px + i), px);
-        const V dy = hn::Sub(hn::LoadU(d, L.py + i), py);
-        const V dz = hn::Sub(hn::LoadU(d, L.pz + i), pz);
+        const V dx = hn::Sub(hn::LoadU(d, lights.px + start + i), px);
+        const V dy = hn::Sub(hn::LoadU(d, lights.py + start + i), py);
+        const V dz = hn::Sub(hn::LoadU(d, lights.pz + start + i), pz);
         const V d2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
         // toLight / √d², component by component (Imath's Vec3 / scalar).
         const V s = hn::Sqrt(d2);
@@ -57,9 +58,9 @@ namespace lobe {
 
 HWY_EXPORT(LightDirectionsImpl);
 
-void computeLightDirections(LightDirections& lights, int count, const Vec3& position,
-                            const Frame& frame) {
-    HWY_DYNAMIC_DISPATCH(LightDirectionsImpl)(lights, count, position, frame);
+void computeLightDirections(LightDirections& out, const LightTable& lights, int start, int count,
+                            const Vec3& position, const Frame& frame) {
+    HWY_DYNAMIC_DISPATCH(LightDirectionsImpl)(out, lights, start, count, position, frame);
 }
 
 }  // namespace lobe

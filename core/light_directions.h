@@ -8,22 +8,22 @@
 #pragma once
 
 #include "core/frame.h"
+#include "core/light_table.h"
 
 namespace lobe {
 
 // Up to kMaxLights lights in structure-of-arrays form; arrays padded to kMaxLights.
 struct LightDirections {
     static constexpr int kMaxLights = 8;
-    // In: the lights' positions.
-    double px[kMaxLights], py[kMaxLights], pz[kMaxLights];
-    // Out, per light: d² = |toLight|² (toLight = light − position), the unit direction to the
+    // Per light: d² = |toLight|² (toLight = light − position), the unit direction to the
     // light in the local frame, wi = frame.toLocal(toLight / √d²), and wi.z / d² (cos θi / d²).
     // d² = 0 (a light at the point) leaves wi and g NaN: callers test d² > 0 and wi.z > 0 first.
     double d2[kMaxLights], wx[kMaxLights], wy[kMaxLights], wz[kMaxLights], g[kMaxLights];
 };
 
-// Fills the outputs of lights 0 … count−1 (count ≤ kMaxLights) seen from `position`.
-void computeLightDirections(LightDirections& lights, int count, const Vec3& position,
-                            const Frame& frame);
+// Fills `out` for lights start … start+count−1 of `lights` (count ≤ kMaxLights) seen from
+// `position`.
+void computeLightDirections(LightDirections& out, const LightTable& lights, int start, int count,
+                            const Vec3& position, const Frame& frame);
 
 }  // namespace lobe

@@ -314,9 +314,8 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
                 point.highlight = vo.spec->highlightTakesLight ? Spectrum(1.0) : s.colour;
                 point.position = s.position;
                 point.hasFrame = s.hasNormal;
-                if (s.hasNormal)
-                    point.frame =
-                        Frame::fromNormalAndAxis(s.normal, vo.tangent.axis, vo.tangent.fallback);
+                // The tangents only where the material needs them (render/shading.h, setNormal).
+                if (s.hasNormal) point.setNormal(s.normal, vo.tangent.axis, vo.tangent.fallback);
                 point.shadow = shadowsAt(s.position, nullptr, rng, st);
                 Spectrum L = shadeCounted(point, toViewer, spec.lights, cost, vo.objectIndex,
                                           &CostCounters::volumeShadingSeconds);
@@ -421,7 +420,7 @@ Spectrum Integrator::trace(const Ray& ray, double jitter, Rng& rng, TraceState& 
         const Vec3 normal = so.smoothGrid ? smoothIsoNormal(*so.smoothGrid, so.smoothGeometry,
                                                             hit->position, hit->normal)
                                           : hit->normal;
-        point.frame = Frame::fromNormalAndAxis(normal, so.tangent.axis, so.tangent.fallback);
+        point.setNormal(normal, so.tangent.axis, so.tangent.fallback);
         point.shadow = shadowsAt(hit->position, &hit->normal, rng, st);
         const Spectrum L = shadeCounted(point, toViewer, spec.lights, cost, so.objectIndex,
                                         &CostCounters::surfaceShadingSeconds);

@@ -1,5 +1,7 @@
 #include "render/shading.h"
 
+#include "render/shading_simd.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -66,12 +68,72 @@ ShadingTerms shadeTermsLoop(View& specular, const Material& m, const Frame& fram
     return {lambert, spec};
 }
 
+// Phong with one whole exponent for all bands (the usual case, and T1's, T2's and T3's): the light
+// loop as one SIMD kernel (render/shading_simd.h). Null for every other material (the loops
+// above).
+inline const Phong* sharedWholePhong(const Material& m) {
+    const Phong* phong = std::get_if<Phong>(&m.specular);
+    if (!phong) return nullptr;
+    const Spectrum& e = phong->exponent;
+    return e[0] == e[1] && e[1] == e[2] && isWholeExponent(e[0]) ? phong : nullptr;
+}
+
+template <class OnEvaluation>
+void countEvaluations(OnEvaluation& onEvaluation, long long n) {
+    for (long long i = 0; i < n; ++i) onEvaluation();
+}
+
+// The kernel's sums for `m` when it is such a Phong (returns false otherwise). `frame` is turned
+// to the viewer already; frameFree: only frame.n is set (ShadingPoint::setNormal), and cos α is
+// worked out without the tangents. Nothing is lit when the viewer is not above the surface
+// (wo.z ≤ 0, as in forEachLightInFrame).
+template <class OnEvaluation>
+bool phongKernelSums(const Material& m, const Frame& frame, bool frameFree, const Vec3& position,
+                     const Vec3& toViewer, const std::vector<PointLight>& lights,
+                     const double* shadow, bool combined, OnEvaluation& onEvaluation,
+                     PhongSums& sums) {
+    const Phong* phong = sharedWholePhong(m);
+    if (!phong) return false;
+    PhongPointInput in;
+    in.frame = frame;
+    if (frameFree) {
+        in.frameFree = true;
+        in.toViewer = toViewer;
+        in.wo.z = toViewer.dot(frame.n);  // frame.toLocal(toViewer).z
+    } else {
+        in.wo = frame.toLocal(toViewer);
+    }
+    if (!(in.wo.z > 0.0)) return true;
+    in.position = position;
+    in.exponent = static_cast<unsigned>(phong->exponent[0]);
+    const Spectrum diffuse = m.kd * kInvPi;
+    for (int b = 0; b < kBandCount; ++b) {
+        in.ks[b] = phong->ks[b];
+        in.diffuse[b] = diffuse[b];
+    }
+    in.specularScale = m.specularScale;
+    in.specularOn = m.specularOn;
+    in.shadow = shadow;
+    phongLightSums(in, lights, combined, sums);
+    countEvaluations(onEvaluation, sums.evaluations);
+    return true;
+}
+
+// The normal of facingViewer (render/shading.h) alone.
+inline Vec3 facingNormal(const Vec3& n, const Vec3& toViewer) {
+    return n.dot(toViewer) < 0.0 ? -n : n;
+}
+
 template <class OnEvaluation>
 Spectrum directLightingImpl(const Material& material, const Frame& frameIn, const Vec3& position,
                             const Vec3& toViewer, const std::vector<PointLight>& lights,
                             bool twoSided, OnEvaluation&& onEvaluation,
                             const double* shadow = nullptr) {
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
+    PhongSums sums;
+    if (phongKernelSums(material, frame, false, position, toViewer, lights, shadow, true,
+                        onEvaluation, sums))
+        return Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
     const Vec3 wo = frame.toLocal(toViewer);
     return visitAtView(material.specular, wo, [&](auto& specular) {
         return directLightingLoop(specular, material, frame, position, toViewer, lights, shadow,
@@ -87,10 +149,19 @@ template <class OnEvaluation>
 Spectrum shadeImpl(const ShadingPoint& point, const Vec3& toViewer,
                    const std::vector<PointLight>& lights, OnEvaluation&& onEvaluation) {
     if (point.hasFrame) {
-        if (point.highlight == point.colour)
-            return point.colour * directLightingImpl(*point.material, point.frame, point.position,
-                                                     toViewer, lights, true, onEvaluation,
-                                                     point.shadow);
+        if (point.highlight == point.colour) {
+            const Material& m = *point.material;
+            if (point.tangentsPending && sharedWholePhong(m)) {  // frame-free
+                Frame frame;
+                frame.n = facingNormal(point.frame.n, toViewer);
+                PhongSums sums;
+                phongKernelSums(m, frame, true, point.position, toViewer, lights, point.shadow,
+                                true, onEvaluation, sums);
+                return point.colour * Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+            }
+            return point.colour * directLightingImpl(m, frameOf(point), point.position, toViewer,
+                                                     lights, true, onEvaluation, point.shadow);
+        }
         const ShadingTerms terms = shadeTermsImpl(point, toViewer, lights, onEvaluation);
         return terms.lambert + terms.specular;
     }
@@ -111,12 +182,24 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
         terms.lambert = shadeImpl(point, toViewer, lights, onEvaluation);
         return terms;
     }
-    const Frame frame = facingViewer(point.frame, toViewer);
-    const Vec3 wo = frame.toLocal(toViewer);
-    terms = visitAtView(m.specular, wo, [&](auto& specular) {
-        return shadeTermsLoop(specular, m, frame, point.position, toViewer, lights, point.shadow,
-                              onEvaluation);
-    });
+    Frame frame;
+    const bool frameFree = point.tangentsPending && sharedWholePhong(m);
+    if (frameFree)
+        frame.n = facingNormal(point.frame.n, toViewer);
+    else
+        frame = facingViewer(frameOf(point), toViewer);
+    PhongSums sums;
+    if (phongKernelSums(m, frame, frameFree, point.position, toViewer, lights, point.shadow, false,
+                        onEvaluation, sums)) {
+        terms.lambert = Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+        terms.specular = Spectrum(sums.specular[0], sums.specular[1], sums.specular[2]);
+    } else {
+        const Vec3 wo = frame.toLocal(toViewer);
+        terms = visitAtView(m.specular, wo, [&](auto& specular) {
+            return shadeTermsLoop(specular, m, frame, point.position, toViewer, lights,
+                                  point.shadow, onEvaluation);
+        });
+    }
     terms.lambert = point.colour * terms.lambert;
     terms.specular = point.highlight * terms.specular;
     return terms;
@@ -167,7 +250,7 @@ void shadeSpecularPerModel(const ShadingPoint& point, const Vec3& toViewer,
                            Spectrum* out, const double* scales) {
     for (size_t m = 0; m < models.size(); ++m) out[m] = Spectrum(0.0);
     if (!point.hasFrame) return;
-    const Frame frame = facingViewer(point.frame, toViewer);
+    const Frame frame = facingViewer(frameOf(point), toViewer);
     forEachLightInFrame(lights, frame, point.position, toViewer,
                         [&](const PointLight& light, const Vec3& wi, const Vec3& wo, double g) {
                             if (point.shadow) g *= point.shadow[&light - lights.data()];

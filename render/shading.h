@@ -53,10 +53,31 @@ struct ShadingPoint {
     Vec3 position{0.0};
     bool hasFrame = true;
     Frame frame;
+    // Set by setNormal: frame.n is the normal, and frame.t, frame.b are built by shading only
+    // when the material needs them (Frame::fromNormalAndAxis(n, tangentAxis, fallbackAxis), as
+    // frameOf returns). Phong with one whole exponent does not: it is lit from n alone (the
+    // "frame-free" path, render/shading_simd.h), which rounds cos α differently (within 1e-12 of
+    // the framed value relative to ks · I · cos θi / d², tests/render/test_shading.cpp).
+    bool tangentsPending = false;
+    Vec3 tangentAxis{0, 0, 1}, fallbackAxis{1, 0, 0};
+    void setNormal(const Vec3& n, const Vec3& axis, const Vec3& fallback) {
+        frame.n = n;
+        tangentAxis = axis;
+        fallbackAxis = fallback;
+        tangentsPending = true;
+    }
     // Shadows (render/integrator.h, "Shadows"): per light (in the scene's order) the
     // transmittance from the point to it, multiplying that light's irradiance; null: no shadows.
     const double* shadow = nullptr;
 };
+
+// The point's full shading frame (built from its normal and axes where setNormal left the tangents
+// pending).
+inline Frame frameOf(const ShadingPoint& point) {
+    return point.tangentsPending
+               ? Frame::fromNormalAndAxis(point.frame.n, point.tangentAxis, point.fallbackAxis)
+               : point.frame;
+}
 
 // colour × Lambert + highlight × specular, two-sided (without a frame: colour × the Lambert term
 // with cos θ = 1). Where highlight = colour this is colour × directLighting, bit for bit the value

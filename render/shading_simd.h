@@ -1,0 +1,50 @@
+// Phong's light loop for one shaded point as one SIMD kernel (Google Highway, the best target the
+// CPU supports chosen at run time): the light directions and Phong's power with the lights as
+// lanes, then the sums with the bands as lanes. It returns render/shading.cpp's loops' sums bit
+// for bit: every operation is a correctly rounded IEEE add, multiply, divide or square root in the
+// scalar code's order (CMake compiles the file with -ffp-contract=off), the comparisons are those
+// of std::max and std::clamp, and the lights are summed in the scene's order. T2 and T3 shade
+// millions of Phong samples under four lights (docs/performance.md, round 4).
+#pragma once
+
+#include "core/frame.h"
+#include "core/light.h"
+
+#include <vector>
+
+namespace lobe {
+
+// One point and one Phong material whose exponent is whole (0 … 1024) and shared by the bands
+// (materials/brdf.h, ModelAtView<Phong>).
+struct PhongPointInput {
+    Vec3 position{0.0};
+    Frame frame;                       // already turned to the viewer where two-sided
+    Vec3 wo{0, 0, 1};                  // frame.toLocal(toViewer), wo.z > 0
+    unsigned exponent = 0;             // the shared whole exponent
+    double ks[4] = {0, 0, 0, 0};       // per band, the 4th 0
+    double diffuse[4] = {0, 0, 0, 0};  // kd/π per band, the 4th 0
+    double specularScale = 1.0;
+    bool specularOn = true;
+    const double* shadow = nullptr;  // per light, or null
+    // Frame-free (ShadingPoint::setNormal): only frame.n and wo.z are set, and cos α is worked
+    // out as r(wi)·wo = 2 (n·wi)(n·wo) − wi·wo in world coordinates, wi the unit direction to the
+    // light and wo = toViewer: the same d², wi.z, cos θi / d² and lit lights bit for bit, so the
+    // Lambert sum is identical; cos α to rounding (a few ulps of 1), so the specular sum within
+    // 1e-12 of the framed one relative to Σ ks · s · I · g (tests/render/test_shading.cpp).
+    bool frameFree = false;
+    Vec3 toViewer{0, 0, 1};
+};
+
+// The sums over the lights of forEachLitLight's loop (render/shading.cpp), bands 0 … 2 (the 4th
+// lane is padding), and the number of BRDF evaluations (lights lit).
+struct PhongSums {
+    double lambert[4] = {0, 0, 0, 0};  // terms: Σ kd/π · I · g;  combined: Σ (kd/π + f_s·s) · I · g
+    double specular[4] = {0, 0, 0, 0};  // terms: Σ f_s · s · I · g; combined: unused
+    long long evaluations = 0;
+};
+
+// combined = false: shadeTermsLoop's two sums; true: directLightingLoop's one.
+void phongLightSums(const PhongPointInput& point, const std::vector<PointLight>& lights,
+                    bool combined, PhongSums& sums);
+
+}  // namespace lobe
