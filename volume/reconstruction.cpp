@@ -119,22 +119,16 @@ double GridReconstructor::trilinear(const Vec3& p) {
     const double fx = std::floor(p.x), fy = std::floor(p.y), fz = std::floor(p.z);
     const int i = int(fx), j = int(fy), k = int(fz);
     const double tx = p.x - fx, ty = p.y - fy, tz = p.z - fz;
-    double c[2][2][2];
-    if (dense_ && dense_->holds(i, j, k, 2)) {
-        const float* q = dense_->at(i, j, k);
-        const size_t sx = dense_->xStride(), sy = dense_->yStride();
-        for (int dz = 0; dz < 2; ++dz)
-            for (int dy = 0; dy < 2; ++dy)
-                for (int dx = 0; dx < 2; ++dx) c[dz][dy][dx] = q[dx * sx + dy * sy + dz];
-    } else {
-        for (int dz = 0; dz < 2; ++dz)
-            for (int dy = 0; dy < 2; ++dy)
-                for (int dx = 0; dx < 2; ++dx)
-                    c[dz][dy][dx] = acc_.getValue(openvdb::Coord(i + dx, j + dy, k + dz));
-    }
-    const double c00 = lerp(c[0][0][0], c[0][0][1], tx), c01 = lerp(c[0][1][0], c[0][1][1], tx);
-    const double c10 = lerp(c[1][0][0], c[1][0][1], tx), c11 = lerp(c[1][1][0], c[1][1][1], tx);
-    return lerp(lerp(c00, c01, ty), lerp(c10, c11, ty), tz);
+    if (dense_ && dense_->holds(i, j, k, 2))
+        return trilinearDense(dense_->at(i, j, k), std::ptrdiff_t(dense_->xStride()),
+                              std::ptrdiff_t(dense_->yStride()), tx, ty, tz);
+    // The same lerps on the tree's values, x-major as in the dense copy.
+    float c[8];
+    for (int dx = 0; dx < 2; ++dx)
+        for (int dy = 0; dy < 2; ++dy)
+            for (int dz = 0; dz < 2; ++dz)
+                c[4 * dx + 2 * dy + dz] = acc_.getValue(openvdb::Coord(i + dx, j + dy, k + dz));
+    return trilinearDense(c, 4, 2, tx, ty, tz);
 }
 
 const GridReconstructor::Block& GridReconstructor::block(int i, int j, int k) {

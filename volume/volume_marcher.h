@@ -296,7 +296,12 @@ private:
     // The empty-space test of next() through the cell distance table for the lattice point p:
     // true when it moved k_ past transparent points (the caller goes on to the next point),
     // false when p must be evaluated.
-    bool skipByCellDistance(const Vec3& p);
+    // Sets cell to floor(p) in any case.
+    bool skipByCellDistance(const Vec3& p, int cell[3]);
+    // next() at coarse steps with the octant tables and trilinear values, without clipping
+    // intervals or pre-integration (begin() decides): the same samples, fewer branches.
+    bool nextCoarseTrilinear(double tEnd, VolumeSample& s, bool withNormal);
+    bool coarseTrilinear_ = false;
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
     double visibleCellEnd_ = -std::numeric_limits<double>::infinity();
