@@ -730,7 +730,10 @@ bool VolumeRaySampler::fillPacket() {
     return packetN_ > 0;
 }
 
-bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
+// skipByCellDistance and jumpPastBox are inlined into next() and nextCoarseTrilinear (GCC left
+// them as calls): T2 at step 1, --threads 1, render CPU 2.23 → 2.15 s (3 rounds alternated).
+[[gnu::always_inline]] inline bool VolumeRaySampler::skipByCellDistance(const Vec3& p,
+                                                                        int cell[3]) {
     const DvrVolume& v = *vol_;
     int q[3];
     bool inside = true;
@@ -790,7 +793,7 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
     return true;
 }
 
-void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {
+[[gnu::always_inline]] inline void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {
     // Exit of the box [lo, lo + size)³ along the ray, then the first lattice point past it. The
     // jump is conservative: a point that rounding puts on the exit plane, or a hair before it,
     // is visited (tested again, at the cost of one more step), never passed over — so skipping
