@@ -288,6 +288,9 @@ public:
     long long samplesSkipped() const { return skipped_; }
     // Lattice packets computed (DvrSettings::simd; 0 on the scalar path).
     long long packetsFilled() const { return packets_; }
+    // Whether this ray runs next()'s coarse-step path (octant tables, trilinear, steps ≥ 0.3
+    // voxel, no clip gaps or pre-integration): the same samples with fewer branches.
+    bool coarsePath() const { return coarseTrilinear_; }
 
 private:
     // Moves k_ to the first lattice point past the box [lo, lo + size)³ (index space), which

@@ -123,6 +123,10 @@ TEST(Reconstruction, DenseCopyGivesTheSameBits) {
                      -24.0 + 48.0 * std::fmod(n * 0.41421356237, 1.0),
                      -24.0 + 48.0 * std::fmod(n * 0.73205080757, 1.0));
         ASSERT_EQ(tree.trilinear(p), copy.trilinear(p)) << p;
+        // The marcher's form with floor(p) given: the same bits, from the copy and the tree.
+        const int i = int(std::floor(p.x)), j = int(std::floor(p.y)), k = int(std::floor(p.z));
+        ASSERT_EQ(copy.trilinear(p, i, j, k), tree.trilinear(p)) << p;
+        ASSERT_EQ(tree.trilinear(p, i, j, k), tree.trilinear(p)) << p;
         ASSERT_EQ(tree.bspline(p), copy.bspline(p)) << p;
         Vec3 ga, gb;
         ASSERT_EQ(tree.bsplineWithGradient(p, ga), copy.bsplineWithGradient(p, gb)) << p;
