@@ -70,7 +70,10 @@
 // as with the two levels, bit for bit. Memory: 8 bytes per cell (the CThead's 7.8 M cells: 63
 // MB, twice its dense copy), built in parallel at load (~0.1 s for the CThead); only when that
 // fits the dense copy's budget (DenseField::kMaxBytes and an eighth of the memory), else the
-// marcher keeps the brick and cell tests.
+// marcher keeps the brick and cell tests. At coarse steps (≥ 0.3 voxel) with these tables and
+// trilinear values, next() runs a shorter loop (nextCoarseTrilinear): the same operations for
+// every point it evaluates, one floor(p) for the table read and the value, no transfer-function
+// interpolation between two transparent control points (docs/performance.md, round 4).
 //
 // Pre-integration (DvrSettings::preIntegrated; volume/pre_integration.h). Each sample then
 // stands for the segment from the previous lattice point to it: its opacity and colour are the
