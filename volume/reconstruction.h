@@ -41,6 +41,8 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cstddef>
+
 namespace lobe {
 
 // kNearest: the value of the voxel whose centre is nearest (floor(p + ½) per axis): for volumes
@@ -88,6 +90,14 @@ public:
         : acc_(grid.getConstAccessor()), dense_(dense) {}
 
     double trilinear(const Vec3& p);
+    // trilinear(p) for a caller that has floor(p) already, (i, j, k): the same bits, and from
+    // the dense copy without a call (the DVR marcher's coarse steps).
+    double trilinear(const Vec3& p, int i, int j, int k) {
+        if (!(dense_ && dense_->holds(i, j, k, 2))) return trilinear(p);
+        return trilinearDense(dense_->at(i, j, k), std::ptrdiff_t(dense_->xStride()),
+                              std::ptrdiff_t(dense_->yStride()), p.x - double(i), p.y - double(j),
+                              p.z - double(k));
+    }
     double nearest(const Vec3& p) {
         return acc_.getValue(openvdb::Coord(int(std::floor(p.x + 0.5)), int(std::floor(p.y + 0.5)),
                                             int(std::floor(p.z + 0.5))));
@@ -119,6 +129,15 @@ public:
     double valueAndGradient(Reconstruction r, GradientMethod g, const Vec3& p, Vec3& gradient);
 
 private:
+    // The trilinear interpolation of the 2³ voxels at q (x, y, z strides sx, sy, 1) at fractions
+    // (tx, ty, tz): lerps a + t (b − a) along x, then y, then z.
+    static double trilinearDense(const float* q, std::ptrdiff_t sx, std::ptrdiff_t sy, double tx,
+                                 double ty, double tz) {
+        auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
+        const double c00 = lerp(q[0], q[sx], tx), c01 = lerp(q[sy], q[sx + sy], tx);
+        const double c10 = lerp(q[1], q[sx + 1], tx), c11 = lerp(q[sy + 1], q[sx + sy + 1], tx);
+        return lerp(lerp(c00, c01, ty), lerp(c10, c11, ty), tz);
+    }
     // A 4³ block of voxels: f[a][4b + c] = voxel (i + a, j + b, k + c) for a, b, c in 0..3.
     using Block = float[4][16];
     // The block at (i, j, k), from the cache when it is the last one asked for.

@@ -28,6 +28,7 @@
 
 #include "core/spectrum.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,8 +55,33 @@ public:
 
     double opacity(double value) const;
     Spectrum colour(double value) const;
-    // Both at once (one search); the hot path of the marcher.
+    // Both at once (one search).
     void evaluate(double value, double& opacity, Spectrum& colour) const;
+    // The marcher's hot path, which drops transparent samples: evaluate()'s opacity, bit for bit,
+    // and its colour only where that opacity is > 0 (else `colour` is left as it was). Between
+    // two control points of opacity 0 the opacity is 0 + s · 0 = 0 for every s in [0, 1], so
+    // neither the division nor the colour's interpolation is done there.
+    double opacityIfVisible(double value, Spectrum& colour) const {
+        const size_t n = points_.size();
+        if (n == 0) return 0.0;
+        const TfPoint* p = points_.data();
+        // The first point strictly above `value`, as in evaluate().
+        const size_t i =
+            size_t(std::upper_bound(p, p + n, value,
+                                    [](double v, const TfPoint& q) { return v < q.value; }) -
+                   p);
+        if (i == 0 || i == n) {
+            const TfPoint& e = p[i == 0 ? 0 : n - 1];
+            colour = e.colour;
+            return e.opacity;
+        }
+        const TfPoint& a = p[i - 1];
+        const TfPoint& b = p[i];
+        if (a.opacity == 0.0 && b.opacity == 0.0) return 0.0;
+        const double s = (value - a.value) / (b.value - a.value);
+        colour = a.colour * (1.0 - s) + b.colour * s;
+        return a.opacity + s * (b.opacity - a.opacity);
+    }
 
     // Exact maximum of the opacity over [lo, hi]: a piecewise-linear function takes its maximum
     // at an interval end or at a control point inside. Used by empty-space skipping.

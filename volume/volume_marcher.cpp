@@ -506,6 +506,9 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
         lattice_.jitter = jitter_;
         lattice_.dt = dt_;
     }
+    coarseTrilinear_ = octantTable_ && stepVoxels_ >= kCellJumpStep && packetSize_ == 0 &&
+                       set.reconstruction == Reconstruction::kTrilinear && !vol_->pre_ &&
+                       clip_.count <= 1;
     active_ = true;
     return true;
 }
@@ -518,6 +521,7 @@ double VolumeRaySampler::peekT() const {
 
 bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
     if (!active_) return false;
+    if (coarseTrilinear_) return nextCoarseTrilinear(tEnd, s, withNormal);
     const DvrVolume& v = *vol_;
     const DvrSettings& set = v.settings_;
     const int b = set.brickSize;
@@ -550,7 +554,8 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         const bool sameCell = k_ > packetK0_ && k_ - packetK0_ < packetSameCell_;
         if (octantTable_) {
             // One table read per point (header, "Cell distances").
-            if (!sameCell && t >= visibleCellEnd_ && skipByCellDistance(p)) continue;
+            int cell[3];
+            if (!sameCell && t >= visibleCellEnd_ && skipByCellDistance(p, cell)) continue;
         } else if (set.emptySpaceSkipping && !sameCell) {
             // Brick and cell of floor(p), in integers (this runs for every lattice point, so no
             // std::floor or division: a truncation corrected downwards, and a shift by log2 B).
@@ -664,6 +669,48 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
     }
 }
 
+// Flattened: the table read, the jump and addNormal inlined here (GCC left them as calls; the
+// general path keeps its calls). T2 at step 1, --threads 1, render CPU 2.23 → 2.15 s (3 rounds
+// alternated).
+[[gnu::flatten]] bool VolumeRaySampler::nextCoarseTrilinear(double tEnd, VolumeSample& s,
+                                                            bool withNormal) {
+    // next() for its most common case at coarse steps (begin(), coarseTrilinear_), step for
+    // step the same operations, hence the same samples: one table read per point, the value
+    // from the cell that read found, the opacity without interpolation between transparent
+    // control points.
+    const DvrVolume& v = *vol_;
+    while (true) {
+        const double t = tEnter_ + (double(k_) + jitter_) * dt_;
+        if (t > tExit_) {
+            active_ = false;
+            return false;
+        }
+        if (t >= tEnd) return false;
+        const Vec3 p = oIdx_ + dIdx_ * t;
+        int cell[3];
+        if (skipByCellDistance(p, cell)) continue;
+        ++evaluated_;
+        const double value = recon_.trilinear(p, cell[0], cell[1], cell[2]);
+        Spectrum colour;
+        const double alphaVoxel = v.tf_.opacityIfVisible(value, colour);
+        ++k_;
+        if (!(alphaVoxel > 0.0)) continue;
+        if (v.settings_.mask && !v.settings_.mask->keeps(v.geometry_.indexToWorld(p))) continue;
+        if (alphaVoxel != lastAlphaVoxel_) {
+            lastAlphaVoxel_ = alphaVoxel;
+            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
+        }
+        s.t = t;
+        s.indexPosition = p;
+        s.position = v.geometry_.indexToWorld(p);
+        s.value = value;
+        s.alpha = lastAlpha_;
+        s.colour = colour;
+        if (withNormal) addNormal(s);
+        return true;
+    }
+}
+
 bool VolumeRaySampler::fillPacket() {
     // Points k_ … on to the last one inside the domain, at most packetSize_ of them.
     const int n =
@@ -687,17 +734,19 @@ bool VolumeRaySampler::fillPacket() {
     return packetN_ > 0;
 }
 
-bool VolumeRaySampler::skipByCellDistance(const Vec3& p) {
+bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
     const DvrVolume& v = *vol_;
-    int cell[3], q[3];
+    int q[3];
+    bool inside = true;
     for (int a = 0; a < 3; ++a) {
         int f = int(p[a]);
         f -= p[a] < double(f) ? 1 : 0;  // floor, |p| < 2³¹ inside the domain
         cell[a] = f;
         q[a] = f - v.brickLo_[a];
-        // A point that rounding puts just outside the table is evaluated, never skipped.
-        if (unsigned(q[a]) >= unsigned(v.cellCount_[a])) return false;
+        inside = inside && unsigned(q[a]) < unsigned(v.cellCount_[a]);
     }
+    // A point that rounding puts just outside the table is evaluated, never skipped.
+    if (!inside) return false;
     const int d = octantTable_[v.cellSlot(q[0], q[1], q[2])];
     if (d == 0) {
         // A visible cell at a fine step holds ~1 / step points: those before the ray's exit

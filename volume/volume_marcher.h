@@ -70,7 +70,10 @@
 // as with the two levels, bit for bit. Memory: 8 bytes per cell (the CThead's 7.8 M cells: 63
 // MB, twice its dense copy), built in parallel at load (~0.1 s for the CThead); only when that
 // fits the dense copy's budget (DenseField::kMaxBytes and an eighth of the memory), else the
-// marcher keeps the brick and cell tests.
+// marcher keeps the brick and cell tests. At coarse steps (≥ 0.3 voxel) with these tables and
+// trilinear values, next() runs a shorter loop (nextCoarseTrilinear): the same operations for
+// every point it evaluates, one floor(p) for the table read and the value, no transfer-function
+// interpolation between two transparent control points (docs/performance.md, round 4).
 //
 // Pre-integration (DvrSettings::preIntegrated; volume/pre_integration.h). Each sample then
 // stands for the segment from the previous lattice point to it: its opacity and colour are the
@@ -288,6 +291,9 @@ public:
     long long samplesSkipped() const { return skipped_; }
     // Lattice packets computed (DvrSettings::simd; 0 on the scalar path).
     long long packetsFilled() const { return packets_; }
+    // Whether this ray runs next()'s coarse-step path (octant tables, trilinear, steps ≥ 0.3
+    // voxel, no clip gaps or pre-integration): the same samples with fewer branches.
+    bool coarsePath() const { return coarseTrilinear_; }
 
 private:
     // Moves k_ to the first lattice point past the box [lo, lo + size)³ (index space), which
@@ -296,7 +302,12 @@ private:
     // The empty-space test of next() through the cell distance table for the lattice point p:
     // true when it moved k_ past transparent points (the caller goes on to the next point),
     // false when p must be evaluated.
-    bool skipByCellDistance(const Vec3& p);
+    // Sets cell to floor(p) in any case.
+    bool skipByCellDistance(const Vec3& p, int cell[3]);
+    // next() at coarse steps with the octant tables and trilinear values, without clipping
+    // intervals or pre-integration (begin() decides): the same samples, fewer branches.
+    bool nextCoarseTrilinear(double tEnd, VolumeSample& s, bool withNormal);
+    bool coarseTrilinear_ = false;
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
     double visibleCellEnd_ = -std::numeric_limits<double>::infinity();

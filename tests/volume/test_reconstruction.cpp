@@ -123,6 +123,10 @@ TEST(Reconstruction, DenseCopyGivesTheSameBits) {
                      -24.0 + 48.0 * std::fmod(n * 0.41421356237, 1.0),
                      -24.0 + 48.0 * std::fmod(n * 0.73205080757, 1.0));
         ASSERT_EQ(tree.trilinear(p), copy.trilinear(p)) << p;
+        // The marcher's form with floor(p) given: the same bits, from the copy and the tree.
+        const int i = int(std::floor(p.x)), j = int(std::floor(p.y)), k = int(std::floor(p.z));
+        ASSERT_EQ(copy.trilinear(p, i, j, k), tree.trilinear(p)) << p;
+        ASSERT_EQ(tree.trilinear(p, i, j, k), tree.trilinear(p)) << p;
         ASSERT_EQ(tree.bspline(p), copy.bspline(p)) << p;
         Vec3 ga, gb;
         ASSERT_EQ(tree.bsplineWithGradient(p, ga), copy.bsplineWithGradient(p, gb)) << p;
@@ -137,6 +141,44 @@ TEST(Reconstruction, DenseCopyGivesTheSameBits) {
     EXPECT_EQ(*dense.at(-12, 13, 8), 0.25f);
     EXPECT_TRUE(dense.holds(-12, -9, -15, 4));
     EXPECT_FALSE(dense.holds(8, 0, 0, 4));  // 8 … 11 passes x = 10
+}
+
+TEST(Reconstruction, CentralDifferencesFromTheCopyAreTheCornerFormulaBitForBit) {
+    // The dense path of centralDifferences (two-lane vectors over z) against the formula written
+    // out here one corner at a time: the trilinear interpolation of the voxel half-differences
+    // at the cell's 8 corners, lerps along x, then y, then z. Same bits at every point.
+    openvdb::initialize();
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    auto acc = grid->getAccessor();
+    for (int k = -2; k <= 12; ++k)
+        for (int j = -2; j <= 12; ++j)
+            for (int i = -2; i <= 12; ++i)
+                acc.setValue(Coord(i, j, k), float(std::sin(0.7 * i + 0.3 * j * j) * std::cos(k)));
+    const DenseField dense(*grid, openvdb::CoordBBox(Coord(-2), Coord(12)));
+    GridReconstructor copy(*grid, &dense);
+    auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
+    auto voxel = [&](int i, int j, int k) { return double(*dense.at(i, j, k)); };
+    for (int n = 0; n < 3000; ++n) {
+        const Vec3 p(std::fmod(n * 0.61803398875, 1.0) * 9.0,
+                     std::fmod(n * 0.41421356237, 1.0) * 9.0,
+                     std::fmod(n * 0.73205080757, 1.0) * 9.0);
+        const int i = int(std::floor(p.x)), j = int(std::floor(p.y)), k = int(std::floor(p.z));
+        const double tx = p.x - i, ty = p.y - j, tz = p.z - k;
+        double d[3][8];
+        for (int c = 0; c < 8; ++c) {
+            const int x = i + (c & 1), y = j + ((c >> 1) & 1), z = k + ((c >> 2) & 1);
+            d[0][c] = 0.5 * (voxel(x + 1, y, z) - voxel(x - 1, y, z));
+            d[1][c] = 0.5 * (voxel(x, y + 1, z) - voxel(x, y - 1, z));
+            d[2][c] = 0.5 * (voxel(x, y, z + 1) - voxel(x, y, z - 1));
+        }
+        const Vec3 g = copy.centralDifferences(p);
+        for (int a = 0; a < 3; ++a) {
+            const double* c = d[a];
+            const double want = lerp(lerp(lerp(c[0], c[1], tx), lerp(c[2], c[3], tx), ty),
+                                     lerp(lerp(c[4], c[5], tx), lerp(c[6], c[7], tx), ty), tz);
+            ASSERT_EQ(g[a], want) << p << " axis " << a;
+        }
+    }
 }
 
 TEST(Reconstruction, BSplineAlongARayMatchesPointEvaluation) {

@@ -31,6 +31,55 @@ TEST(TransferFunction, StepTakesRightLimitAtItsValue) {
     EXPECT_EQ(tf.opacity(0.9), 0.3);
 }
 
+TEST(TransferFunction, OpacityIfVisibleIsEvaluateWhereVisible) {
+    // The marcher's shortcut: between two control points of opacity 0 it returns 0 without
+    // touching the colour; elsewhere evaluate()'s opacity and colour, bit for bit. Hand case:
+    // the T3 tents 0.69 → 0.70 → 0.71 (opacity 0 → 0.3 → 0), a plateau 0.8 … 0.9 and a step.
+    const Spectrum red(1, 0, 0), blue(0, 0, 1);
+    const TransferFunction tf({{0.69, 0.0, red},
+                               {0.70, 0.3, blue},
+                               {0.71, 0.0, red},
+                               {0.74, 0.0, blue},
+                               {0.8, 0.0, red},
+                               {0.8, 0.25, blue},
+                               {0.9, 0.25, red}});
+    const Spectrum sentinel(-7.0);
+    Spectrum c = sentinel;
+    EXPECT_EQ(tf.opacityIfVisible(0.72, c), 0.0);  // inside the transparent piece 0.71 … 0.74
+    EXPECT_EQ(c, sentinel);
+    // At 0.695: s = 0.5 → opacity 0.15, colour halfway between red and blue.
+    EXPECT_NEAR(tf.opacityIfVisible(0.695, c), 0.15, 1e-12);
+    EXPECT_NEAR(c[0], 0.5, 1e-12);
+    EXPECT_NEAR(c[2], 0.5, 1e-12);
+    // On the plateau the opacity is exactly the control points' (0.25 + s · 0).
+    EXPECT_EQ(tf.opacityIfVisible(0.83, c), 0.25);
+    EXPECT_EQ(tf.opacityIfVisible(0.8, c), 0.25);  // the step's right limit, as evaluate()
+    EXPECT_EQ(c, blue);
+    // Everywhere, on a fine grid of values through every piece, the ends and the points: the
+    // same opacity as evaluate() and, where it is > 0, the same colour.
+    int visible = 0, transparent = 0;
+    for (int i = -50; i <= 1300; ++i) {
+        const double v = 0.6 + 0.00025 * i + (i % 7 == 0 ? 1e-13 : 0.0);
+        for (double x : {v, std::nextafter(0.71, 0.0), 0.71, 0.74, 0.9, 0.69}) {
+            double a;
+            Spectrum ce, cv = sentinel;
+            tf.evaluate(x, a, ce);
+            const double b = tf.opacityIfVisible(x, cv);
+            ASSERT_EQ(a, b) << x;
+            if (b > 0.0) {
+                ASSERT_EQ(ce, cv) << x;
+                ++visible;
+            } else {
+                ++transparent;
+            }
+        }
+    }
+    EXPECT_GT(visible, 1000);
+    EXPECT_GT(transparent, 1000);
+    Spectrum e = sentinel;
+    EXPECT_EQ(TransferFunction().opacityIfVisible(0.5, e), 0.0);
+}
+
 TEST(TransferFunction, MaxOpacityIsExact) {
     // Tent 0 → 0.5 → 0 on [0.4, 0.6]: inside [0.45, 0.7] the peak 0.5 at 0.6 is a control point,
     // inside [0.41, 0.42] the maximum is at the right end: (0.42 − 0.4)/0.1 · 0.5 = 0.1.

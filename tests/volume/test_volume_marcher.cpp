@@ -197,6 +197,7 @@ int expectSameSamples(VolumeRaySampler& a, VolumeRaySampler& b, const Ray& ray, 
         EXPECT_EQ(sa.t, sb.t);
         EXPECT_EQ(sa.value, sb.value);
         EXPECT_EQ(sa.alpha, sb.alpha);
+        EXPECT_EQ(sa.colour, sb.colour);
     }
     return contributing;
 }
@@ -589,6 +590,61 @@ TEST(VolumeMarcher, CellDistanceJumpsChangeNoSampleOnRandomVolumes) {
                 EXPECT_GT(skipped, evalOn) << volume << " " << step;
                 EXPECT_EQ(evalOn + skipped, evalOff) << volume << " " << step;
             }
+}
+
+TEST(VolumeMarcher, CoarsePathGivesTheSamplesOfThePlainMarch) {
+    // next()'s coarse-step path (octant tables, trilinear; VolumeRaySampler::coarsePath) against
+    // the plain march without skipping, which takes the general path: the same contributing
+    // samples (t, value, opacity, colour), with a transfer function of narrow tents (T3's
+    // shape: transparent pieces between visible ones, where the path skips the interpolation)
+    // and with the cortex preset, at the coarse steps the path serves.
+    const Spectrum a(0.2, 0.4, 0.9), b(0.9, 0.5, 0.1);
+    const TransferFunction tents({{0.39, 0.0, a},
+                                  {0.4, 0.3, b},
+                                  {0.41, 0.0, a},
+                                  {0.5, 0.0, b},
+                                  {0.52, 0.45, a},
+                                  {0.54, 0.0, b}});
+    for (const TransferFunction& tf : {tents, TransferFunction::cortex(0.4, 0.3)})
+        for (double step : {1.0, 0.575, 0.5, 0.3}) {
+            DvrSettings on, off;
+            on.stepVoxels = off.stepVoxels = step;
+            off.emptySpaceSkipping = false;
+            std::vector<Vec3> centres;
+            const openvdb::FloatGrid::Ptr grid = randomBalls(61, 6, &centres);
+            const DvrVolume vOn(grid, tf, on), vOff(grid, tf, off);
+            long long contributing = 0, coarse = 0;
+            for (int n = 0; n < 80; ++n) {
+                Rng rng(17, n);
+                const Vec3 dir =
+                    normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+                Ray ray;
+                ray.o = centres[size_t(n) % centres.size()] - 90.0 * dir;
+                ray.d = dir;
+                VolumeRaySampler sa(vOn), sb(vOff);
+                contributing += expectSameSamples(sa, sb, ray, rng.uniform());
+                coarse += sa.coarsePath() ? 1 : 0;
+                EXPECT_FALSE(sb.coarsePath());
+            }
+            EXPECT_EQ(coarse, 80) << step;
+            EXPECT_GT(contributing, 25) << step;  // the narrow tents: 31 at step 1
+        }
+    // Finer steps, the B-spline and pre-integration keep the general path.
+    DvrSettings fine, bspline, pre;
+    fine.stepVoxels = 0.25;
+    bspline.reconstruction = Reconstruction::kCubicBSpline;
+    bspline.stepVoxels = pre.stepVoxels = 1.0;
+    pre.preIntegrated = true;
+    const openvdb::FloatGrid::Ptr grid = randomBalls(62, 3);
+    Ray ray;
+    ray.o = Vec3(-40.0, 20.0, 20.0);
+    ray.d = Vec3(1.0, 0.0, 0.0);
+    for (const DvrSettings* set : {&fine, &bspline, &pre}) {
+        const DvrVolume vol(grid, tents, *set);
+        VolumeRaySampler s(vol);
+        ASSERT_TRUE(s.begin(ray, 0.5));
+        EXPECT_FALSE(s.coarsePath());
+    }
 }
 
 TEST(VolumeMarcher, CellDistancesOnlyWhereTheyApply) {
