@@ -648,7 +648,10 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                 v.tf_.evaluate(value, alphaVoxel, colour);
             }
             ++k_;
-            if (!(alphaVoxel > 0.0)) continue;
+            if (!(alphaVoxel > 0.0)) {
+                if (fromPacket && clip_.count <= 1) skipTransparentPacketRun(tEnd);
+                continue;
+            }
             if (set.mask && !set.mask->keeps(v.geometry_.indexToWorld(p))) continue;
             // Runs of equal opacities (a transfer function's plateau) are common: correct once.
             if (alphaVoxel != lastAlphaVoxel_) {
@@ -732,6 +735,22 @@ bool VolumeRaySampler::fillPacket() {
     packetSameCell_ = packetN_ > 0 ? packet_.sameCell : 0;
     packets_ += packetN_ > 0 ? 1 : 0;
     return packetN_ > 0;
+}
+
+void VolumeRaySampler::skipTransparentPacketRun(double tEnd) {
+    // Points of the packet's first cell after its first point take no table test in next()
+    // (`sameCell`), so a transparent one only counts as evaluated and moves k_ on.
+    const long long i0 = k_ - packetK0_;
+    const int limit = std::min(packetN_, packetSameCell_);
+    if (i0 < 1 || i0 >= limit) return;
+    int i = int(i0);
+    while (i < limit && !(packet_.alpha[i] > 0.0)) ++i;
+    if (i == i0) return;
+    // next()'s t for the last of them, the same expression.
+    const double tLast = tEnter_ + (double(packetK0_ + i - 1) + jitter_) * dt_;
+    if (tLast > tExit_ || tLast >= tEnd) return;
+    evaluated_ += i - i0;
+    k_ = packetK0_ + i;
 }
 
 bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {

@@ -339,6 +339,12 @@ private:
     // The skipping decisions stay point by point, except for the points in the cell of the
     // packet's first point, which was found visible: their tables give the same answer.
     bool fillPacket();
+    // After a transparent point of the packet (k_ already past it): past the transparent points
+    // that follow it in the packet's first cell, counted as evaluated — what next()'s loop
+    // does with them (they need no table test, their opacity is 0), without the loop. Only
+    // when the last of them lies before tEnd and tExit (t grows with k, so all do) and the ray
+    // has no clip gaps; otherwise the loop takes them one by one.
+    void skipTransparentPacketRun(double tEnd);
     RayLattice lattice_{};
     LatticePacket packet_;
     long long packetK0_ = 0;
