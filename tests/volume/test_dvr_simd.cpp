@@ -41,8 +41,10 @@ TransferFunction pieces() {
 }
 
 // Marches 200 random rays through the blob with the packet path on and off and requires equal
-// samples; returns the number of packets the SIMD path computed.
-long long expectPacketsChangeNoSample(Reconstruction rec, double step, bool skipping) {
+// samples; returns the number of packets the SIMD path computed. cut > 0: the segments end
+// every `cut` (from a random start) instead of once, so many ends fall inside packets.
+long long expectPacketsChangeNoSample(Reconstruction rec, double step, bool skipping,
+                                      double cut = 0.0) {
     const auto grid = bumpyBlob();
     DvrSettings on, off;
     on.reconstruction = off.reconstruction = rec;
@@ -74,8 +76,10 @@ long long expectPacketsChangeNoSample(Reconstruction rec, double step, bool skip
             EXPECT_EQ(ha, hb);
             if (ha != hb) return -1;
             if (!ha) {
+                // Where each sampler stands: the renderer orders volume and surfaces by it.
+                EXPECT_EQ(a.peekT(), b.peekT());
                 if (tEnd > 1e3) break;
-                tEnd = 1e30;
+                tEnd = cut > 0.0 && tEnd < 80.0 ? tEnd + cut : 1e30;
                 continue;
             }
             ++samples;
@@ -109,6 +113,15 @@ TEST(DvrSimd, BSplineRayPolynomialPacketsGiveTheScalarSamplesBitForBit) {
             EXPECT_GT(expectPacketsChangeNoSample(Reconstruction::kCubicBSpline, step, skipping),
                       100)
                 << step;
+}
+
+TEST(DvrSimd, PacketsStopAtEverySegmentEnd) {
+    // Segment ends every 0.013–0.5 voxel: they fall inside the packets' runs of transparent
+    // points (the TF is 0 below 0.15, the blob's rim), which next() passes in one step
+    // (skipTransparentPacketRun) only when the run ends before tEnd.
+    for (const Reconstruction rec : {Reconstruction::kTrilinear, Reconstruction::kCubicBSpline})
+        for (double cut : {0.013, 0.11, 0.5})
+            EXPECT_GT(expectPacketsChangeNoSample(rec, 0.05, true, cut), 100) << cut;
 }
 
 TEST(DvrSimd, EveryTargetGivesTheScalarSamples) {
