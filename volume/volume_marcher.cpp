@@ -630,14 +630,8 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
             if (!(alpha > 0.0)) continue;
             if (set.mask && !set.mask->keeps(v.geometry_.indexToWorld(oIdx_ + dIdx_ * t))) continue;
             // The sample sits at the segment's centre of extinction (pre_integration.h).
-            s.t = t - (1.0 - where) * dt_;
-            s.indexPosition = oIdx_ + dIdx_ * s.t;
-            s.position = v.geometry_.indexToWorld(s.indexPosition);
-            s.value = value;
-            s.alpha = alpha;
-            s.colour = colour;
-            if (withNormal) addNormal(s);
-            return true;
+            const double tc = t - (1.0 - where) * dt_;
+            return emit(s, tc, oIdx_ + dIdx_ * tc, value, alpha, colour, withNormal);
         } else {
             double alphaVoxel;
             if (fromPacket) {
@@ -653,22 +647,9 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                 continue;
             }
             if (set.mask && !set.mask->keeps(v.geometry_.indexToWorld(p))) continue;
-            // Runs of equal opacities (a transfer function's plateau) are common: correct once.
-            if (alphaVoxel != lastAlphaVoxel_) {
-                lastAlphaVoxel_ = alphaVoxel;
-                lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
-            }
-            alpha = lastAlpha_;
+            alpha = correctedOpacity(alphaVoxel);
         }
-
-        s.t = t;
-        s.indexPosition = p;
-        s.position = v.geometry_.indexToWorld(p);
-        s.value = value;
-        s.alpha = alpha;
-        s.colour = colour;
-        if (withNormal) addNormal(s);
-        return true;
+        return emit(s, t, p, value, alpha, colour, withNormal);
     }
 }
 
@@ -699,18 +680,7 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
         ++k_;
         if (!(alphaVoxel > 0.0)) continue;
         if (v.settings_.mask && !v.settings_.mask->keeps(v.geometry_.indexToWorld(p))) continue;
-        if (alphaVoxel != lastAlphaVoxel_) {
-            lastAlphaVoxel_ = alphaVoxel;
-            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
-        }
-        s.t = t;
-        s.indexPosition = p;
-        s.position = v.geometry_.indexToWorld(p);
-        s.value = value;
-        s.alpha = lastAlpha_;
-        s.colour = colour;
-        if (withNormal) addNormal(s);
-        return true;
+        return emit(s, t, p, value, correctedOpacity(alphaVoxel), colour, withNormal);
     }
 }
 

@@ -307,6 +307,28 @@ private:
     // next() at coarse steps with the octant tables and trilinear values, without clipping
     // intervals or pre-integration (begin() decides): the same samples, fewer branches.
     bool nextCoarseTrilinear(double tEnd, VolumeSample& s, bool withNormal);
+    // The opacity of one step for a voxel opacity (correctOpacity), computed once per run of
+    // equal opacities — a transfer function's plateau is common.
+    double correctedOpacity(double alphaVoxel) {
+        if (alphaVoxel != lastAlphaVoxel_) {
+            lastAlphaVoxel_ = alphaVoxel;
+            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
+        }
+        return lastAlpha_;
+    }
+    // The end of every path of next(): fills s for the point at t (index position p) and
+    // returns true.
+    bool emit(VolumeSample& s, double t, const Vec3& p, double value, double alpha,
+              const Spectrum& colour, bool withNormal) {
+        s.t = t;
+        s.indexPosition = p;
+        s.position = vol_->geometry_.indexToWorld(p);
+        s.value = value;
+        s.alpha = alpha;
+        s.colour = colour;
+        if (withNormal) addNormal(s);
+        return true;
+    }
     bool coarseTrilinear_ = false;
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
