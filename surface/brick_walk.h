@@ -34,12 +34,6 @@ struct BrickCells {
     // The box of the straddling cells in cells relative to the origin (lo xyz, hi xyz, hi
     // exclusive, 0 … 8); empty (lo > hi) when none straddles.
     std::array<std::uint8_t, 6> straddleBox{kCells, kCells, kCells, 0, 0, 0};
-    // The same box per 4³ octant of the brick, one plane to a word, octant i = (x ≥ 4) +
-    // 2 (y ≥ 4) + 4 (z ≥ 4) in byte i: words 0–2 the low x, y, z, words 3–5 the high ones (in
-    // cells relative to the origin, hi exclusive); an octant without straddling cells holds
-    // lo 8, hi 0. Read by clipToStraddlingOctants (brick_octants.cpp) as one vector per plane.
-    std::uint64_t octantPlanes[6] = {
-        0x0808080808080808ull, 0x0808080808080808ull, 0x0808080808080808ull, 0, 0, 0};
 
     bool anyStraddles() const { return straddleBox[0] < straddleBox[3]; }
 
@@ -80,19 +74,11 @@ inline BrickCells BrickCells::classify(const float* v, double iso) {
                 } else if (!(cMax < iso)) {
                     b.masks[z] |= bit;
                     const int xyz[3] = {x, y, z};
-                    const int shift = 8 * ((x >= 4 ? 1 : 0) + (y >= 4 ? 2 : 0) + (z >= 4 ? 4 : 0));
                     for (int a = 0; a < 3; ++a) {
                         b.straddleBox[a] =
                             static_cast<std::uint8_t>(std::min<int>(b.straddleBox[a], xyz[a]));
                         b.straddleBox[a + 3] = static_cast<std::uint8_t>(
                             std::max<int>(b.straddleBox[a + 3], xyz[a] + 1));
-                        const std::uint64_t byte = std::uint64_t(0xff) << shift;
-                        const std::uint64_t lo = (b.octantPlanes[a] & byte) >> shift;
-                        const std::uint64_t hi = (b.octantPlanes[a + 3] & byte) >> shift;
-                        b.octantPlanes[a] = (b.octantPlanes[a] & ~byte) |
-                                            (std::min<std::uint64_t>(lo, xyz[a]) << shift);
-                        b.octantPlanes[a + 3] = (b.octantPlanes[a + 3] & ~byte) |
-                                                (std::max<std::uint64_t>(hi, xyz[a] + 1) << shift);
                     }
                 }
             }
@@ -132,19 +118,11 @@ struct WalkRay {
     }
 };
 
-// Narrows [t0, t1] (a regular ray's interval, already clipped to the brick and its straddling
-// box) to the intervals in which the ray meets the straddling boxes of the brick's octants
-// (BrickCells::octantPlanes), each widened by kStraddleBoxMarginVoxels: from the first entry into
-// one to the last exit from one. False when it meets none. The walk's hits stay the same bit for
-// bit: what is cut off holds only cells outside every octant's box, i.e. non-straddling cells,
-// which hold no root and cannot change sign between them (the argument of the straddling box in
-// firstRootInBrick), and the walk from the new t0 starts in such a cell and crosses the same
-// planes as from the old one (the DDA's planes are integer, its tNext = (k − o)/d). Eight boxes
-// cost one AVX-512 vector per plane (brick_octants.cpp); kOctantClip is false on a CPU without
-// AVX-512F, and the walk then skips this narrowing (the same hits).
-bool clipToStraddlingOctants(const openvdb::Coord& origin, const BrickCells& cells,
-                             const WalkRay& ray, double& t0, double& t1);
-extern const bool kOctantClip;
+// Whether the CPU runs AVX-512F code (iso_exact.cpp's copy of the walk compiled for it).
+inline bool cpuHasAvx512f() {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f");
+}
 
 // The first root of f − iso along the index-space ray o + t·d, t ∈ [tMin, tMax], inside the
 // brick at `origin`. corners(lx, ly, lz, c) fills c[8] (trilinear_cell.h order) for the cell at
@@ -188,7 +166,6 @@ bool firstRootInBrick(const openvdb::Coord& origin, const BrickCells& cells, dou
         t0 = std::max(e0, s0);
         t1 = std::min(e1, s1);
         if (!(t0 <= t1)) return false;
-        if (kOctantClip && !clipToStraddlingOctants(origin, cells, ray, t0, t1)) return false;
     } else {
         // Slab clip against the brick's index box, widened by the overlap (in t units).
         const double overlap = ray.overlap;
