@@ -118,10 +118,13 @@ struct WalkRay {
     }
 };
 
-// Whether the CPU runs AVX-512F code (iso_exact.cpp's copy of the walk compiled for it).
-inline bool cpuHasAvx512f() {
+// Whether the CPU runs AVX-512 F, VL, DQ, BW and CD code (iso_exact.cpp's copy of the walk
+// compiled for it).
+inline bool cpuHasAvx512() {
     __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f");
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+           __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+           __builtin_cpu_supports("avx512cd");
 }
 
 // The first root of f − iso along the index-space ray o + t·d, t ∈ [tMin, tMax], inside the

@@ -193,28 +193,28 @@ struct BrickCorners {
     }
 };
 
-// The walk compiled for AVX-512F (its scalar code with the VEX/EVEX forms: rounding by one
-// instruction, three-operand arithmetic), called where the CPU has it. The same hits as the
-// baseline copy bit for bit: the same operations on the same doubles, and this file is compiled
-// with -ffp-contract=off (surface/CMakeLists.txt), so no product and sum fuse into an FMA.
-// flatten puts the corner reads and the cubic's tests into this copy too.
-[[gnu::target("avx512f"), gnu::flatten]] bool walkAvx512f(const openvdb::Coord& origin,
-                                                          const BrickCells& cells, double iso,
-                                                          const WalkRay& ray, double tMin,
-                                                          double tMax, const BrickCorners& corners,
-                                                          double& tHit) {
+// The walk compiled for AVX-512 (F, VL, DQ, BW, CD: Skylake-SP and later), called where the
+// CPU has it: its scalar code in the VEX/EVEX forms (rounding in one instruction, three-operand
+// arithmetic). The same hits as the baseline copy bit for bit: the same operations on the same
+// doubles, and this file is compiled with -ffp-contract=off (surface/CMakeLists.txt), so no
+// product and sum fuse into an FMA. flatten puts the corner reads and the cubic's tests into
+// this copy too. Rendering 1's walk: 0.91-0.95x the baseline's CPU (docs/performance.md, round 5;
+// AVX2 alone 0.96x, -march-style tuning for Ice Lake 1.02x).
+[[gnu::target("avx512f,avx512vl,avx512dq,avx512bw,avx512cd"), gnu::flatten]] bool walkAvx512(
+    const openvdb::Coord& origin, const BrickCells& cells, double iso, const WalkRay& ray,
+    double tMin, double tMax, const BrickCorners& corners, double& tHit) {
     return firstRootInBrick(origin, cells, iso, ray, tMin, tMax, corners, tHit);
 }
 
-const bool kAvx512f = cpuHasAvx512f();
+const bool kAvx512 = cpuHasAvx512();
 
 }  // namespace
 
 bool IsoExactSurface::intersectPrimitive(unsigned brick, const WalkRay& ray, double tMin,
                                          double tMax, double& tHit) const {
     const BrickCorners corners{&values_[std::size_t(brick) * kBrickValues]};
-    if (kAvx512f)
-        return walkAvx512f(origins_[brick], cells_[brick], iso_, ray, tMin, tMax, corners, tHit);
+    if (kAvx512)
+        return walkAvx512(origins_[brick], cells_[brick], iso_, ray, tMin, tMax, corners, tHit);
     return firstRootInBrick(origins_[brick], cells_[brick], iso_, ray, tMin, tMax, corners, tHit);
 }
 

@@ -5,7 +5,7 @@
 // of 0 takes the general path), rays through lattice edges and corners (ties between axes), rays
 // starting and ending inside the brick, and searches restarted beyond each root as the hit
 // gathering does (user_geometry.h). The exact iso-surface's own walk (iso_exact.cpp: a copy
-// compiled for AVX-512F where the CPU has it) must give the same hits as well.
+// compiled for AVX-512 where the CPU has it) must give the same hits as well.
 #include "core/rng.h"
 #include "surface/brick_walk.h"
 #include "surface/iso_exact.h"
@@ -267,7 +267,7 @@ TEST(BrickWalkReference, AxisRaysAndLatticeTiesGiveTheReferenceHitsBitForBit) {
     EXPECT_GT(roots, 1000);
 }
 
-// IsoExactSurface::intersectPrimitive runs the walk compiled for AVX-512F on a CPU that has it
+// IsoExactSurface::intersectPrimitive runs the walk compiled for AVX-512 on a CPU that has it
 // (iso_exact.cpp): it must return the reference walk's hits bit for bit, on the surface's own
 // bricks, for every root along random rays (each search from just beyond the last). Fails when
 // that copy is compiled with floating-point contraction (fused multiply-adds).
