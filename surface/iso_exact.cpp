@@ -198,7 +198,7 @@ struct BrickCorners {
 // arithmetic). The same hits as the baseline copy bit for bit: the same operations on the same
 // doubles, and this file is compiled with -ffp-contract=off (surface/CMakeLists.txt), so no
 // product and sum fuse into an FMA. flatten puts the corner reads and the cubic's tests into
-// this copy too. Rendering 1's walk: 0.91-0.95x the baseline's CPU (docs/performance.md, round 5;
+// this copy too. Rendering 1's walk: 0.91-0.93x the baseline's CPU (docs/performance.md, round 5;
 // AVX2 alone 0.96x, -march-style tuning for Ice Lake 1.02x).
 [[gnu::target("avx512f,avx512vl,avx512dq,avx512bw,avx512cd"), gnu::flatten]] bool walkAvx512(
     const openvdb::Coord& origin, const BrickCells& cells, double iso, const WalkRay& ray,
