@@ -4,9 +4,11 @@
 // bit on every ray: random rays through bumpy shells, rays along the axes (a direction component
 // of 0 takes the general path), rays through lattice edges and corners (ties between axes), rays
 // starting and ending inside the brick, and searches restarted beyond each root as the hit
-// gathering does (user_geometry.h).
+// gathering does (user_geometry.h). The exact iso-surface's own walk (iso_exact.cpp: a copy
+// compiled for AVX-512 where the CPU has it) must give the same hits as well.
 #include "core/rng.h"
 #include "surface/brick_walk.h"
+#include "surface/iso_exact.h"
 #include "surface/trilinear_cell.h"
 
 #include <gtest/gtest.h>
@@ -263,6 +265,69 @@ TEST(BrickWalkReference, AxisRaysAndLatticeTiesGiveTheReferenceHitsBitForBit) {
             }
     }
     EXPECT_GT(roots, 1000);
+}
+
+// IsoExactSurface::intersectPrimitive runs the walk compiled for AVX-512 on a CPU that has it
+// (iso_exact.cpp): it must return the reference walk's hits bit for bit, on the surface's own
+// bricks, for every root along random rays (each search from just beyond the last). Fails when
+// that copy is compiled with floating-point contraction (fused multiply-adds).
+TEST(BrickWalkReference, TheExactSurfacesWalkGivesTheReferenceHitsBitForBit) {
+    Rng rng(2611);
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(1.0f);
+    auto acc = grid->getAccessor();
+    // Two bumpy shells over 3 × 2 × 2 bricks, one thin (two walls), values on 25 × 17 × 17 points.
+    const Vec3 c0(7.3, 8.1, 6.6), c1(15.2, 7.7, 9.4);
+    for (int z = 0; z <= 16; ++z)
+        for (int y = 0; y <= 16; ++y)
+            for (int x = 0; x <= 24; ++x) {
+                const Vec3 p(x, y, z);
+                const double a = (p - c0).length() - 5.5;
+                const double b = std::abs((p - c1).length() - 4.0) - 0.8;
+                acc.setValue(openvdb::Coord(x, y, z),
+                             float(std::min(a, b) + 0.4 * (rng.uniform() - 0.5)));
+            }
+    const double iso = 0.05;
+    const IsoExactSurface surface(*grid, iso, "shells");
+    ASSERT_GT(surface.brickCount(), 4u);
+    constexpr int P = BrickCells::kPoints;
+    int roots = 0;
+    for (unsigned brick = 0; brick < surface.brickCount(); ++brick) {
+        const openvdb::Coord origin = surface.brickOrigin(brick);
+        std::vector<float> v(BrickCells::kValues);
+        for (int z = 0; z < P; ++z)
+            for (int y = 0; y < P; ++y)
+                for (int x = 0; x < P; ++x)
+                    v[size_t(x + P * (y + P * z))] = acc.getValue(origin + openvdb::Coord(x, y, z));
+        const BrickCells cells = BrickCells::classify(v.data(), iso);
+        const auto corners = [&v](int lx, int ly, int lz, double c[8]) {
+            for (int k = 0; k < 8; ++k)
+                c[k] =
+                    v[size_t((lx + (k & 1)) + P * ((ly + ((k >> 1) & 1)) + P * (lz + (k >> 2))))];
+        };
+        const Vec3 lo(origin.x(), origin.y(), origin.z());
+        for (int r = 0; r < 3000; ++r) {
+            const Vec3 target = lo + Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 8.0;
+            Vec3 d(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+            d = d * std::exp(4.0 * (rng.uniform() - 0.5));
+            if (r % 10 == 0) d[r / 10 % 3] = 0.0;  // the general path too
+            const double back = 12.0 / d.length();
+            const WalkRay ray(target - d * back, d);
+            const double tMax = r % 2 ? back * (0.5 + rng.uniform()) : 3.0 * back;
+            double a = r % 3 == 1 ? back * rng.uniform() : 0.0;
+            for (int guard = 0; guard < 64 && a <= tMax; ++guard) {
+                double tNew = -1.0, tRef = -1.0;
+                const bool hitNew = surface.intersectPrimitive(brick, ray, a, tMax, tNew);
+                const bool hitRef =
+                    referenceFirstRootInBrick(origin, cells, iso, ray, a, tMax, corners, tRef);
+                ASSERT_EQ(hitNew, hitRef);
+                if (!hitNew) break;
+                ASSERT_EQ(tNew, tRef);
+                ++roots;
+                a = tNew + 1e-6 * (1.0 + std::abs(tNew));
+            }
+        }
+    }
+    EXPECT_GT(roots, 5000);
 }
 
 }  // namespace
