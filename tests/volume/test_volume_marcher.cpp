@@ -185,6 +185,17 @@ TEST(VolumeMarcher, OpacityCorrectionMakesStepsAgreeOnSmoothData) {
 // value), and the skipped + reconstructed points must be the points marched without skipping.
 // Marches one ray through the volume with skipping (a) and without (b): both must yield the same
 // samples (same lattice point, value and opacity). Returns how many.
+// A ray of random direction (three draws of rng) aimed at ball n of `centres`, starting 90 voxels
+// before it.
+Ray rayAtBall(const std::vector<Vec3>& centres, int n, Rng& rng) {
+    const Vec3 dir =
+        normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
+    Ray ray;
+    ray.o = centres[size_t(n) % centres.size()] - 90.0 * dir;
+    ray.d = dir;
+    return ray;
+}
+
 int expectSameSamples(VolumeRaySampler& a, VolumeRaySampler& b, const Ray& ray, double jitter) {
     EXPECT_EQ(a.begin(ray, jitter), b.begin(ray, jitter));
     VolumeSample sa, sb;
@@ -616,11 +627,7 @@ TEST(VolumeMarcher, CoarsePathGivesTheSamplesOfThePlainMarch) {
             long long contributing = 0, coarse = 0;
             for (int n = 0; n < 80; ++n) {
                 Rng rng(17, n);
-                const Vec3 dir =
-                    normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
-                Ray ray;
-                ray.o = centres[size_t(n) % centres.size()] - 90.0 * dir;
-                ray.d = dir;
+                const Ray ray = rayAtBall(centres, n, rng);
                 VolumeRaySampler sa(vOn), sb(vOff);
                 contributing += expectSameSamples(sa, sb, ray, rng.uniform());
                 coarse += sa.coarsePath() ? 1 : 0;
@@ -680,11 +687,7 @@ TEST(VolumeMarcher, OctantTablesOnlyWithinTheMemoryBudget) {
     long long skipped = 0, contributing = 0;
     for (int n = 0; n < 40; ++n) {
         Rng rng(3, n);
-        const Vec3 dir =
-            normalized(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5));
-        Ray ray;
-        ray.o = centres[size_t(n) % centres.size()] - 90.0 * dir;
-        ray.d = dir;
+        const Ray ray = rayAtBall(centres, n, rng);
         VolumeRaySampler a(small), b(reference);
         contributing += expectSameSamples(a, b, ray, rng.uniform());
         skipped += a.samplesSkipped();
