@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 
 namespace lobe {
@@ -394,20 +395,30 @@ TEST(Shading, AnisoKernelsAreThePlainLoopWithinTheirTolerance) {
     EXPECT_GE(targets, 1);
 }
 
-// Ashikhmin–Shirley with wi ≈ −wo at the horizon: |wi + wo|² = 4e-320 is below twice the smallest
-// normal double, where Imath's length() takes its tiny-vector path; the kernel hands such a point
-// back and the model's loop lights it — bit for bit (f_s clamped to kMaxBrdfValue there).
+// Ashikhmin–Shirley with wi ≈ −wo at the horizon: wi = (0, 1, 7e-155), wo = (1e-154, −1, 7e-155),
+// |wi + wo|² ≈ 2.96e-308 is below twice the smallest normal double, where Imath's length() takes
+// its tiny-vector path. There h.z ≈ 0.81, and with nu = 3200 f_s ≈ 1e23 is not clamped: the
+// kernel hands such a point back and the model's loop lights it — bit for bit (the kernel's own
+// power would differ from std::pow's).
 TEST(Shading, AnisoKernelLeavesATinyHalfVectorToTheLoop) {
     Material m;
-    m.specular = AshikhminShirley{};
+    AshikhminShirley as;
+    as.nu = Spectrum(3200.0);
+    as.nv = Spectrum(0.0);
+    m.specular = as;
     m.kd = Spectrum(0.2);
     ShadingPoint point;
     point.material = &m;
     point.colour = Spectrum(0.9, 0.6, 0.3);
     point.highlight = Spectrum(1.0);
     point.frame = Frame();  // t = x, b = y, n = z
-    const std::vector<PointLight> lights = {{Vec3(0.0, 100.0, 1e-158), Spectrum(1e3)}};
-    const Vec3 toViewer(0.0, -1.0, 1e-160);
+    const std::vector<PointLight> lights = {{Vec3(0.0, 100.0, 7e-153), Spectrum(1e3)}};
+    const Vec3 toViewer(1e-154, -1.0, 7e-155);
+    const Vec3 sum = Vec3(0.0, 1.0, 7e-155) + toViewer;
+    EXPECT_LT(sum.length2(), 2.0 * std::numeric_limits<double>::min());
+    const Spectrum f = evalBrdf(m.specular, Vec3(0.0, 1.0, 7e-155), toViewer);
+    EXPECT_GT(f[0], 1e15);
+    EXPECT_LT(f[0], kMaxBrdfValue);
     for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
         hwy::SetSupportedTargetsForTest(target);
         long long n = 0;
