@@ -192,7 +192,8 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
                 // materials/ward.h: tx = H.x / H.z, ty = H.y / H.z,
                 // gauss = exp(−((tx/αx)² + (ty/αy)²)), norm = 4π αx αy · √(wi.z wo.z).
                 const V ax = hn::Div(hn::Div(hx, hz), sx), ay = hn::Div(hn::Div(hy, hz), sy);
-                const V q = hn::Add(hn::Mul(ax, ax), hn::Mul(ay, ay));
+                // Lanes of unlit lights (NaN where a light is at the point) pass 0 to Exp.
+                const V q = hn::IfThenElseZero(ok, hn::Add(hn::Mul(ax, ax), hn::Mul(ay, ay)));
                 hn::Store(hn::Exp(d, hn::Neg(q)), d, t0 + i);
                 hn::Store(hn::Mul(wardNorm, hn::Sqrt(hn::Mul(wz, woz))), d, t1 + i);
             } else {
@@ -213,7 +214,9 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
                 const V e =
                     hn::IfThenElse(hn::Lt(zero, sin2),
                                    hn::Div(hn::Add(hn::Mul(sx, hx2), hn::Mul(sy, hy2)), sin2), one);
-                const V power = hn::Exp(d, hn::Mul(e, hn::Log(d, ez)));
+                // Lanes of unlit lights pass 1 to Log and 0 to Exp.
+                const V lnHz = hn::Log(d, hn::IfThenElse(ok, ez, one));
+                const V power = hn::Exp(d, hn::IfThenElseZero(ok, hn::Mul(e, lnHz)));
                 // fresnelSchlick: m = 1 − min(1, max(0, c)), c = h·wi.
                 const V c0 = hn::IfThenElse(hn::Lt(zero, hDotWi), hDotWi, zero);
                 const V m = hn::Sub(one, hn::IfThenElse(hn::Lt(c0, one), c0, one));
