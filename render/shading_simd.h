@@ -61,7 +61,7 @@ void phongLightSums(const PhongPointInput& point, const std::vector<PointLight>&
 // number, so below 7.1e-13 relative). The tolerance, tested against the scalar loop on every SIMD
 // target the CPU has (tests/render/test_shading.cpp), is |Δ specular| ≤ 1e-12 · S + 1e-290 per
 // band, S = Σ_lights f_s · s · I · g; the absolute term covers powers below the normal range (there
-// the relative error grows, the values being below 1e-307), tested rather than bounded.
+// the power's relative error grows, the power being below 2.2e-308), tested rather than bounded.
 struct AnisoPointInput {
     enum class Model { ward, ashikhminShirley };
     Model model = Model::ward;
