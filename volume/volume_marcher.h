@@ -294,11 +294,16 @@ public:
     // Whether this ray runs next()'s coarse-step path (octant tables, trilinear, steps ≥ 0.3
     // voxel, no clip gaps or pre-integration): the same samples with fewer branches.
     bool coarsePath() const { return coarseTrilinear_; }
+    // Whether it runs that path's AVX2 copy (CPUs with AVX2, unless DvrSettings::simd is false
+    // or LOBE_SIMD=off): the same samples bit for bit.
+    bool coarsePathAvx2() const { return coarseAvx2_; }
 
 private:
     // Moves k_ to the first lattice point past the box [lo, lo + size)³ (index space), which
     // must be transparent, counting the points passed as skipped.
     void jumpPastBox(const int lo[3], int size);
+    // The lattice index jumpPastBox moves to from index k.
+    long long pastBox(const int lo[3], int size, long long k) const;
     // The empty-space test of next() through the cell distance table for the lattice point p:
     // true when it moved k_ past transparent points (the caller goes on to the next point),
     // false when p must be evaluated.
@@ -307,6 +312,12 @@ private:
     // next() at coarse steps with the octant tables and trilinear values, without clipping
     // intervals or pre-integration (begin() decides): the same samples, fewer branches.
     bool nextCoarseTrilinear(double tEnd, VolumeSample& s, bool withNormal);
+    // The same compiled for AVX2 (coarseAvx2_; volume_marcher.cpp), and the loop both run: the
+    // lattice index and the counters in locals, written back when it returns.
+    bool nextCoarseTrilinearAvx2(double tEnd, VolumeSample& s, bool withNormal);
+    template <bool kFloorInstruction>
+    [[gnu::always_inline]] inline bool coarseTrilinearLoop(double tEnd, VolumeSample& s,
+                                                           bool withNormal);
     // The opacity of one step for a voxel opacity (correctOpacity), computed once per run of
     // equal opacities — a transfer function's plateau is common.
     double correctedOpacity(double alphaVoxel) {
@@ -330,6 +341,7 @@ private:
         return true;
     }
     bool coarseTrilinear_ = false;
+    bool coarseAvx2_ = false;  // coarsePathAvx2()
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
     double visibleCellEnd_ = -std::numeric_limits<double>::infinity();
