@@ -73,7 +73,10 @@
 // marcher keeps the brick and cell tests. At coarse steps (≥ 0.3 voxel) with these tables and
 // trilinear values, next() runs a shorter loop (nextCoarseTrilinear): the same operations for
 // every point it evaluates, one floor(p) for the table read and the value, no transfer-function
-// interpolation between two transparent control points (docs/performance.md, round 4).
+// interpolation between two transparent control points (docs/performance.md, round 4). That loop
+// keeps its lattice index in a register and is compiled twice: for the baseline x86-64 and, run
+// where the CPU has it, for AVX2 (floor and the jump's ceil one instruction each; no fused
+// multiply-add, so the same samples bit for bit; round 6).
 //
 // Pre-integration (DvrSettings::preIntegrated; volume/pre_integration.h). Each sample then
 // stands for the segment from the previous lattice point to it: its opacity and colour are the
@@ -133,7 +136,8 @@ struct DvrSettings {
     // Lattice packets (volume/dvr_simd.h): at steps below 1/4 voxel, trilinear values from the
     // dense copy and the B-spline's ray polynomial are computed for up to 16 consecutive lattice
     // points at once with SIMD — the same bits as one by one. false (or LOBE_SIMD=off in the
-    // environment) keeps the scalar path, the reference.
+    // environment) keeps the scalar path, the reference; it also keeps the coarse-step path's
+    // baseline copy instead of its AVX2 one (VolumeRaySampler::coarsePathAvx2; the same bits).
     bool simd = true;
 };
 
