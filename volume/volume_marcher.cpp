@@ -724,26 +724,7 @@ bool VolumeRaySampler::coarseTrilinearLoop(double tEnd, VolumeSample& s, bool wi
                 continue;
             }
             if (d != 0) {
-                int lo[3], size = d;
-                bool brickJump = false;
-                if (d == DvrVolume::kOctantDistanceCap) {
-                    // Far from anything visible: the cube of bricks around the cell's brick when
-                    // it reaches further (skipByCellDistance).
-                    const int shift = v.brickShift_, b = 1 << shift;
-                    int bi[3];
-                    for (int a = 0; a < 3; ++a) bi[a] = q[a] >> shift;
-                    const int c = v.brickTransparent_[(size_t(bi[2]) * v.brickCount_[1] + bi[1]) *
-                                                          v.brickCount_[0] +
-                                                      bi[0]];
-                    if ((c - 1) * b > d - 1) {
-                        for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - c + 1) * b;
-                        size = (2 * c - 1) * b;
-                        brickJump = true;
-                    }
-                }
-                if (!brickJump)
-                    for (int a = 0; a < 3; ++a) lo[a] = dIdx_[a] < 0.0 ? cell[a] - d + 1 : cell[a];
-                const long long kNext = pastBox(lo, size, k);
+                const long long kNext = pastTransparentCells(q, cell, d, k);
                 skipped += std::max(0LL, std::min(kNext, kEnd) - k);
                 k = kNext;
                 continue;
@@ -843,6 +824,16 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
         ++k_;
         return true;
     }
+    const long long kNext = pastTransparentCells(q, cell, d, k_);
+    // Count only lattice points inside the domain (t ≤ tExit) as skipped.
+    skipped_ += std::max(0LL, std::min(kNext, (long long)kLast_ + 1) - k_);
+    k_ = kNext;
+    return true;
+}
+
+long long VolumeRaySampler::pastTransparentCells(const int q[3], const int cell[3], int d,
+                                                 long long k) const {
+    const DvrVolume& v = *vol_;
     if (d == DvrVolume::kOctantDistanceCap) {
         // Far from anything visible: the cube of bricks around the cell's brick when it reaches
         // further (its half-side is at least (c − 1)·B; the octant cube's reach is d − 1).
@@ -855,15 +846,13 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
         if ((c - 1) * b > d - 1) {
             int lo[3];
             for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - c + 1) * b;
-            jumpPastBox(lo, (2 * c - 1) * b);
-            return true;
+            return pastBox(lo, (2 * c - 1) * b, k);
         }
     }
     // Past the cube of side d that starts at the cell and extends along the ray's direction.
     int lo[3];
     for (int a = 0; a < 3; ++a) lo[a] = dIdx_[a] < 0.0 ? cell[a] - d + 1 : cell[a];
-    jumpPastBox(lo, d);
-    return true;
+    return pastBox(lo, d, k);
 }
 
 void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {

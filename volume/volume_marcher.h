@@ -308,6 +308,11 @@ private:
     void jumpPastBox(const int lo[3], int size);
     // The lattice index jumpPastBox moves to from index k.
     long long pastBox(const int lo[3], int size, long long k) const;
+    // The lattice index past the transparent cells ahead of the point at index k in cell
+    // (table coordinates q = cell − brickLo_), whose octant distance is d ≥ 1: past the octant's
+    // cube of side d, or past the cube of transparent bricks around it when d is capped and that
+    // reaches further (skipByCellDistance and the coarse path).
+    long long pastTransparentCells(const int q[3], const int cell[3], int d, long long k) const;
     // The empty-space test of next() through the cell distance table for the lattice point p:
     // true when it moved k_ past transparent points (the caller goes on to the next point),
     // false when p must be evaluated.
