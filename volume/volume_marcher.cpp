@@ -666,9 +666,9 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
 // (coarseAvx2_, chosen in begin()). Both are the one loop below with everything it calls in the
 // file inlined ([[gnu::flatten]]: the cell test, the jump and addNormal, which GCC had left as
 // calls; T2 at step 1, --threads 1, render CPU 2.23 → 2.15 s when it was first flattened). The
-// AVX2 copy performs the same operations on the same doubles — one-instruction rounding for the
-// jump's ceil, three-operand arithmetic — and the file is compiled with -ffp-contract=off, so no
-// multiply-add is fused and both give the same samples bit for bit (volume/CMakeLists.txt;
+// AVX2 copy performs the same operations on the same doubles — one-instruction floor(p) and
+// the jump's ceil, three-operand arithmetic — and the file is compiled with -ffp-contract=off, so
+// no multiply-add is fused and both give the same samples bit for bit (volume/CMakeLists.txt;
 // docs/performance.md, round 6).
 [[gnu::flatten]] bool VolumeRaySampler::nextCoarseTrilinear(double tEnd, VolumeSample& s,
                                                             bool withNormal) {
