@@ -63,12 +63,6 @@ GridGeometry::GridGeometry(const openvdb::GridBase& grid, const std::string& nam
     refLength_ *= s;
 }
 
-Vec3 GridGeometry::indexToWorld(const Vec3& p) const {
-    return origin_ + Vec3(j_[0][0] * p.x + j_[0][1] * p.y + j_[0][2] * p.z,
-                          j_[1][0] * p.x + j_[1][1] * p.y + j_[1][2] * p.z,
-                          j_[2][0] * p.x + j_[2][1] * p.y + j_[2][2] * p.z);
-}
-
 Vec3 GridGeometry::worldToIndexDirection(const Vec3& d) const {
     return Vec3(jInv_[0][0] * d.x + jInv_[0][1] * d.y + jInv_[0][2] * d.z,
                 jInv_[1][0] * d.x + jInv_[1][1] * d.y + jInv_[1][2] * d.z,

@@ -66,7 +66,11 @@ public:
     // tiny voxels keep a power-of-two scale OpenVDB's maps do not hold).
     explicit GridGeometry(const openvdb::GridBase& grid, const std::string& name = "volume");
 
-    Vec3 indexToWorld(const Vec3& p) const;
+    Vec3 indexToWorld(const Vec3& p) const {
+        return origin_ + Vec3(j_[0][0] * p.x + j_[0][1] * p.y + j_[0][2] * p.z,
+                              j_[1][0] * p.x + j_[1][1] * p.y + j_[1][2] * p.z,
+                              j_[2][0] * p.x + j_[2][1] * p.y + j_[2][2] * p.z);
+    }
     Vec3 worldToIndex(const Vec3& p) const;
     // Image of a world direction (or displacement) in index space: J⁻¹ d. Not normalised: the
     // ray parameter t is the same in both spaces.
