@@ -258,9 +258,6 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
     tfArrays_ = std::make_shared<const TfArrays>(tf_);
-    double alphaMax = 0.0;
-    for (const TfPoint& q : tf_.points()) alphaMax = std::max(alphaMax, q.opacity);
-    correction_ = OpacityCorrection(settings_.stepVoxels, alphaMax);
 }
 
 void DvrVolume::computeClearance() {

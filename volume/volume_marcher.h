@@ -212,11 +212,8 @@ private:
     std::shared_ptr<const DenseField> dense_;
     std::shared_ptr<const PreIntegratedTf> pre_;  // when settings_.preIntegrated
     std::shared_ptr<const TfArrays> tfArrays_;    // the TF for lattice packets
-    // Equation (1) of transfer_function.h for the exponent stepVoxels (an isotropic grid's rays
-    // at stepScale 1) on the TF's opacities.
-    OpacityCorrection correction_;
-    Vec3 domainLo_{0.0}, domainHi_{0.0};  // index space, continuous
-    int brickLo_[3] = {0, 0, 0};          // index of brick (0,0,0)'s first voxel
+    Vec3 domainLo_{0.0}, domainHi_{0.0};          // index space, continuous
+    int brickLo_[3] = {0, 0, 0};                  // index of brick (0,0,0)'s first voxel
     int brickCount_[3] = {0, 0, 0};
     int brickShift_ = 0;  // log2 of the brick size
     // Per brick: 0 when some sample in it may be visible, else its clearance c ≥ 1 — the cube of
@@ -310,13 +307,12 @@ private:
     // next() at coarse steps with the octant tables and trilinear values, without clipping
     // intervals or pre-integration (begin() decides): the same samples, fewer branches.
     bool nextCoarseTrilinear(double tEnd, VolumeSample& s, bool withNormal);
-    // The opacity of one step for a voxel opacity (correctOpacity; from the volume's table when
-    // the ray's exponent is the table's, within 2e-14 of it), computed once per run of equal
-    // opacities — a transfer function's plateau is common.
+    // The opacity of one step for a voxel opacity (correctOpacity), computed once per run of
+    // equal opacities — a transfer function's plateau is common.
     double correctedOpacity(double alphaVoxel) {
         if (alphaVoxel != lastAlphaVoxel_) {
             lastAlphaVoxel_ = alphaVoxel;
-            lastAlpha_ = vol_->correction_.correct(alphaVoxel, stepRefLengths_);
+            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
         }
         return lastAlpha_;
     }
