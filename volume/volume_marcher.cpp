@@ -258,6 +258,9 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
     tfArrays_ = std::make_shared<const TfArrays>(tf_);
+    double alphaMax = 0.0;
+    for (const TfPoint& q : tf_.points()) alphaMax = std::max(alphaMax, q.opacity);
+    correction_ = OpacityCorrection(settings_.stepVoxels, alphaMax);
     // The values outside [visibleLo_, visibleHi_] are transparent (the first and last of the
     // TF's transparent ranges when they reach ±inf; at their finite end the opacity may already
     // be > 0, a step, so the comparisons there are strict).

@@ -225,6 +225,9 @@ private:
     std::shared_ptr<const DenseField> dense_;
     std::shared_ptr<const PreIntegratedTf> pre_;  // when settings_.preIntegrated
     std::shared_ptr<const TfArrays> tfArrays_;    // the TF for lattice packets
+    // Equation (1) of transfer_function.h for the exponent stepVoxels (an isotropic grid's rays
+    // at stepScale 1) on the TF's opacities.
+    OpacityCorrection correction_;
     // Values below visibleLo_ or above visibleHi_ are transparent (−inf / +inf: no such end).
     double visibleLo_ = -std::numeric_limits<double>::infinity();
     double visibleHi_ = std::numeric_limits<double>::infinity();
@@ -329,12 +332,13 @@ private:
     bool rayCellTransparent(double t, int cell[3]);
     bool boundRayCells_ = false;
     int boundCell_[3] = {0, 0, 0};  // the cell last bounded on this ray
-    // The opacity of one step for a voxel opacity (correctOpacity), computed once per run of
-    // equal opacities — a transfer function's plateau is common.
+    // The opacity of one step for a voxel opacity (correctOpacity; from the volume's table when
+    // the ray's exponent is the table's, within 2e-14 of it), computed once per run of equal
+    // opacities — a transfer function's plateau is common.
     double correctedOpacity(double alphaVoxel) {
         if (alphaVoxel != lastAlphaVoxel_) {
             lastAlphaVoxel_ = alphaVoxel;
-            lastAlpha_ = correctOpacity(alphaVoxel, stepRefLengths_);
+            lastAlpha_ = vol_->correction_.correct(alphaVoxel, stepRefLengths_);
         }
         return lastAlpha_;
     }
