@@ -46,8 +46,10 @@ struct TfPoint {
 double correctOpacity(double alphaVoxel, double stepInVoxels);
 
 // Equation (1) for one exponent r = `stepInVoxels`, from a table: the marcher's hot path, where
-// every sample on a transfer function's ramp has its own α, and −expm1(r log1p(−α)) cost ~4 % of
-// rendering 1 (docs/performance.md, round 6: ~10 ns a call, the table ~4 ns). On an isotropic
+// every sample on a transfer function's ramp has its own α, and −expm1(r log1p(−α)) had ~4 % of
+// rendering 1's profile (~10 ns a call, the table ~4 ns; alone the table saved nothing measurable,
+// with the marcher's ray-cell bound the two saved ~11 % of the volume time: docs/performance.md,
+// round 6, opac39). On an isotropic
 // grid every ray of a render has the same r up to rounding (volume_marcher.h: r = Δt |d| / ℓ_ref
 // = stepVoxels), so one table serves them all.
 //
