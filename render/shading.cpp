@@ -119,6 +119,62 @@ bool phongKernelSums(const Material& m, const Frame& frame, bool frameFree, cons
     return true;
 }
 
+// Ward or Ashikhmin–Shirley whose shape parameters (αx, αy; nu, nv) are the same in every band
+// (the usual case, and rendering 1's): the light loop as a SIMD kernel (render/shading_simd.h,
+// within its stated tolerance of the loops above). False for every other material.
+inline bool sharedShapeAniso(const Material& m, AnisoPointInput& in) {
+    if (const Ward* ward = std::get_if<Ward>(&m.specular)) {
+        const Spectrum &ax = ward->alphaX, &ay = ward->alphaY;
+        if (!(ax[0] == ax[1] && ax[1] == ax[2] && ay[0] == ay[1] && ay[1] == ay[2])) return false;
+        in.model = AnisoPointInput::Model::ward;
+        in.shapeX = ax[0];
+        in.shapeY = ay[0];
+        for (int b = 0; b < kBandCount; ++b) in.reflectance[b] = ward->rhoS[b];
+        return true;
+    }
+    if (const AshikhminShirley* as = std::get_if<AshikhminShirley>(&m.specular)) {
+        const Spectrum &nu = as->nu, &nv = as->nv;
+        if (!(nu[0] == nu[1] && nu[1] == nu[2] && nv[0] == nv[1] && nv[1] == nv[2])) return false;
+        in.model = AnisoPointInput::Model::ashikhminShirley;
+        in.shapeX = nu[0];
+        in.shapeY = nv[0];
+        const Spectrum norm = as->norms();
+        for (int b = 0; b < kBandCount; ++b) {
+            in.reflectance[b] = as->rs[b];
+            in.norm[b] = norm[b];
+        }
+        return true;
+    }
+    return false;
+}
+
+// The kernel's sums for `m` when it is such a Ward or Ashikhmin–Shirley and the kernel takes the
+// point (returns false otherwise: the caller runs the model's loop). `frame` is the full frame,
+// turned to the viewer already. Nothing is lit when the viewer is not above the surface.
+template <class OnEvaluation>
+bool anisoKernelSums(const Material& m, const Frame& frame, const Vec3& position,
+                     const Vec3& toViewer, const std::vector<PointLight>& lights,
+                     const double* shadow, bool combined, OnEvaluation& onEvaluation,
+                     PhongSums& sums) {
+    AnisoPointInput in;
+    if (!sharedShapeAniso(m, in)) return false;
+    in.frame = frame;
+    in.wo = frame.toLocal(toViewer);
+    if (!(in.wo.z > 0.0)) return true;
+    in.position = position;
+    const Spectrum diffuse = m.kd * kInvPi;
+    for (int b = 0; b < kBandCount; ++b) in.diffuse[b] = diffuse[b];
+    in.specularScale = m.specularScale;
+    in.specularOn = m.specularOn;
+    in.shadow = shadow;
+    if (!anisoLightSums(in, lights, combined, sums)) {
+        sums = PhongSums();
+        return false;
+    }
+    countEvaluations(onEvaluation, sums.evaluations);
+    return true;
+}
+
 // The normal of facingViewer (render/shading.h) alone.
 inline Vec3 facingNormal(const Vec3& n, const Vec3& toViewer) {
     return n.dot(toViewer) < 0.0 ? -n : n;
@@ -132,7 +188,9 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
     const Frame frame = twoSided ? facingViewer(frameIn, toViewer) : frameIn;
     PhongSums sums;
     if (phongKernelSums(material, frame, false, position, toViewer, lights, shadow, true,
-                        onEvaluation, sums))
+                        onEvaluation, sums) ||
+        anisoKernelSums(material, frame, position, toViewer, lights, shadow, true, onEvaluation,
+                        sums))
         return Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
     const Vec3 wo = frame.toLocal(toViewer);
     return visitAtView(material.specular, wo, [&](auto& specular) {
@@ -190,6 +248,8 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
         frame = facingViewer(frameOf(point), toViewer);
     PhongSums sums;
     if (phongKernelSums(m, frame, frameFree, point.position, toViewer, lights, point.shadow, false,
+                        onEvaluation, sums) ||
+        anisoKernelSums(m, frame, point.position, toViewer, lights, point.shadow, false,
                         onEvaluation, sums)) {
         terms.lambert = Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
         terms.specular = Spectrum(sums.specular[0], sums.specular[1], sums.specular[2]);

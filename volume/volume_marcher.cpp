@@ -13,6 +13,10 @@ namespace lobe {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+bool cpuHasAvx2() {
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+}
 // B-spline support around floor(p): voxels floor(p) − 1 … floor(p) + 2 (reconstruction.h).
 constexpr int kSupportBelow = 1;
 constexpr int kSupportAbove = 2;
@@ -520,6 +524,9 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     coarseTrilinear_ = octantTable_ && stepVoxels_ >= kCellJumpStep && packetSize_ == 0 &&
                        set.reconstruction == Reconstruction::kTrilinear && !vol_->pre_ &&
                        clip_.count <= 1;
+    // The AVX2 copy of the coarse path where the CPU has it; DvrSettings::simd = false or
+    // LOBE_SIMD=off keeps the baseline copy (the same samples; tests compare the two).
+    coarseAvx2_ = coarseTrilinear_ && set.simd && !simdDisabledByEnvironment() && cpuHasAvx2();
     active_ = true;
     return true;
 }
@@ -532,7 +539,9 @@ double VolumeRaySampler::peekT() const {
 
 bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
     if (!active_) return false;
-    if (coarseTrilinear_) return nextCoarseTrilinear(tEnd, s, withNormal);
+    if (coarseTrilinear_)
+        return coarseAvx2_ ? nextCoarseTrilinearAvx2(tEnd, s, withNormal)
+                           : nextCoarseTrilinear(tEnd, s, withNormal);
     const DvrVolume& v = *vol_;
     const DvrSettings& set = v.settings_;
     const int b = set.brickSize;
@@ -671,35 +680,90 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
     }
 }
 
-// Flattened: the table read, the jump and addNormal inlined here (GCC left them as calls; the
-// general path keeps its calls). T2 at step 1, --threads 1, render CPU 2.23 → 2.15 s (3 rounds
-// alternated).
+// The coarse path (nextCoarseTrilinear) in two copies: for the baseline x86-64 and for AVX2
+// (coarseAvx2_, chosen in begin()). Both are the one loop below with everything it calls in the
+// file inlined ([[gnu::flatten]]: the cell test, the jump and addNormal, which GCC had left as
+// calls; T2 at step 1, --threads 1, render CPU 2.23 → 2.15 s when it was first flattened). The
+// AVX2 copy performs the same operations on the same doubles — one-instruction floor(p) and
+// the jump's ceil, three-operand arithmetic — and the file is compiled with -ffp-contract=off, so
+// no multiply-add is fused and both give the same samples bit for bit (volume/CMakeLists.txt;
+// docs/performance.md, round 6).
 [[gnu::flatten]] bool VolumeRaySampler::nextCoarseTrilinear(double tEnd, VolumeSample& s,
                                                             bool withNormal) {
+    return coarseTrilinearLoop<false>(tEnd, s, withNormal);
+}
+
+[[gnu::flatten, gnu::target("avx2")]] bool VolumeRaySampler::nextCoarseTrilinearAvx2(
+    double tEnd, VolumeSample& s, bool withNormal) {
+    return coarseTrilinearLoop<true>(tEnd, s, withNormal);
+}
+
+template <bool kFloorInstruction>
+bool VolumeRaySampler::coarseTrilinearLoop(double tEnd, VolumeSample& s, bool withNormal) {
     // next() for its most common case at coarse steps (begin(), coarseTrilinear_), step for
-    // step the same operations, hence the same samples: one table read per point, the value
-    // from the cell that read found, the opacity without interpolation between transparent
-    // control points.
+    // step the same operations, hence the same samples: one table read per point
+    // (skipByCellDistance's, at a coarse step), the value from the cell that read found, the
+    // opacity without interpolation between transparent control points. The lattice index and
+    // the counters live in locals (registers) and are written back when the loop ends.
     const DvrVolume& v = *vol_;
+    long long k = k_, evaluated = 0, skipped = 0;
+    const long long kEnd = (long long)kLast_ + 1;  // the first lattice index past the domain
+    const unsigned char* const table = octantTable_;
     while (true) {
-        const double t = tEnter_ + (double(k_) + jitter_) * dt_;
+        const double t = tEnter_ + (double(k) + jitter_) * dt_;
         if (t > tExit_) {
             active_ = false;
-            return false;
+            break;
         }
-        if (t >= tEnd) return false;
+        if (t >= tEnd) break;
         const Vec3 p = oIdx_ + dIdx_ * t;
-        int cell[3];
-        if (skipByCellDistance(p, cell)) continue;
-        ++evaluated_;
+        int cell[3], q[3];
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+            int f;
+            if constexpr (kFloorInstruction) {
+                f = int(std::floor(p[a]));  // one instruction (SSE4.1 and later)
+            } else {
+                f = int(p[a]);
+                f -= p[a] < double(f) ? 1 : 0;  // floor, |p| < 2³¹ inside the domain
+            }
+            cell[a] = f;
+            q[a] = f - v.brickLo_[a];
+            inside = inside && unsigned(q[a]) < unsigned(v.cellCount_[a]);
+        }
+        // A point that rounding puts just outside the table is evaluated, never skipped.
+        if (inside) {
+            const int d = table[v.cellSlot(q[0], q[1], q[2])];
+            if (d == 1) {
+                // A lone transparent cell at a coarse step holds one or two points: a step is
+                // cheaper than the jump.
+                ++skipped;
+                ++k;
+                continue;
+            }
+            if (d != 0) {
+                const long long kNext = pastTransparentCells(q, cell, d, k);
+                skipped += std::max(0LL, std::min(kNext, kEnd) - k);
+                k = kNext;
+                continue;
+            }
+        }
+        ++evaluated;
         const double value = recon_.trilinear(p, cell[0], cell[1], cell[2]);
         Spectrum colour;
         const double alphaVoxel = v.tf_.opacityIfVisible(value, colour);
-        ++k_;
+        ++k;
         if (!(alphaVoxel > 0.0)) continue;
         if (v.settings_.mask && !v.settings_.mask->keeps(v.geometry_.indexToWorld(p))) continue;
+        k_ = k;
+        evaluated_ += evaluated;
+        skipped_ += skipped;
         return emit(s, t, p, value, correctedOpacity(alphaVoxel), colour, withNormal);
     }
+    k_ = k;
+    evaluated_ += evaluated;
+    skipped_ += skipped;
+    return false;
 }
 
 bool VolumeRaySampler::rayCellTransparent(double t, int cell[3]) {
@@ -827,6 +891,16 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
         ++k_;
         return true;
     }
+    const long long kNext = pastTransparentCells(q, cell, d, k_);
+    // Count only lattice points inside the domain (t ≤ tExit) as skipped.
+    skipped_ += std::max(0LL, std::min(kNext, (long long)kLast_ + 1) - k_);
+    k_ = kNext;
+    return true;
+}
+
+long long VolumeRaySampler::pastTransparentCells(const int q[3], const int cell[3], int d,
+                                                 long long k) const {
+    const DvrVolume& v = *vol_;
     if (d == DvrVolume::kOctantDistanceCap) {
         // Far from anything visible: the cube of bricks around the cell's brick when it reaches
         // further (its half-side is at least (c − 1)·B; the octant cube's reach is d − 1).
@@ -839,18 +913,23 @@ bool VolumeRaySampler::skipByCellDistance(const Vec3& p, int cell[3]) {
         if ((c - 1) * b > d - 1) {
             int lo[3];
             for (int a = 0; a < 3; ++a) lo[a] = v.brickLo_[a] + (bi[a] - c + 1) * b;
-            jumpPastBox(lo, (2 * c - 1) * b);
-            return true;
+            return pastBox(lo, (2 * c - 1) * b, k);
         }
     }
     // Past the cube of side d that starts at the cell and extends along the ray's direction.
     int lo[3];
     for (int a = 0; a < 3; ++a) lo[a] = dIdx_[a] < 0.0 ? cell[a] - d + 1 : cell[a];
-    jumpPastBox(lo, d);
-    return true;
+    return pastBox(lo, d, k);
 }
 
 void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {
+    const long long kNext = pastBox(lo, size, k_);
+    // Count only lattice points inside the domain (t ≤ tExit) as skipped.
+    skipped_ += std::max(0LL, std::min(kNext, (long long)kLast_ + 1) - k_);
+    k_ = kNext;
+}
+
+long long VolumeRaySampler::pastBox(const int lo[3], int size, long long k) const {
     // Exit of the box [lo, lo + size)³ along the ray, then the first lattice point past it. The
     // jump is conservative: a point that rounding puts on the exit plane, or a hair before it,
     // is visited (tested again, at the cost of one more step), never passed over — so skipping
@@ -861,15 +940,13 @@ void VolumeRaySampler::jumpPastBox(const int lo[3], int size) {
         const double bound = dIdx_[a] > 0.0 ? double(lo[a]) + size : double(lo[a]);
         tOut = std::min(tOut, (bound - oIdx_[a]) * invDIdx_[a]);
     }
-    long long kNext = k_ + 1;
+    long long kNext = k + 1;
     if (std::isfinite(tOut)) {
         const double x = (tOut - tEnter_) * invDt_ - jitter_;
         const double kf = std::ceil(x - 1e-9 * std::max(1.0, std::abs(x)));
         if (kf > double(kNext)) kNext = kf > 9e18 ? (long long)9e18 : (long long)kf;
     }
-    // Count only lattice points inside the domain (t ≤ tExit) as skipped.
-    skipped_ += std::max(0LL, std::min(kNext, (long long)kLast_ + 1) - k_);
-    k_ = kNext;
+    return kNext;
 }
 
 void VolumeRaySampler::addNormal(VolumeSample& s) {

@@ -73,7 +73,10 @@
 // marcher keeps the brick and cell tests. At coarse steps (≥ 0.3 voxel) with these tables and
 // trilinear values, next() runs a shorter loop (nextCoarseTrilinear): the same operations for
 // every point it evaluates, one floor(p) for the table read and the value, no transfer-function
-// interpolation between two transparent control points (docs/performance.md, round 4).
+// interpolation between two transparent control points (docs/performance.md, round 4). That loop
+// keeps its lattice index in a register and is compiled twice: for the baseline x86-64 and, run
+// where the CPU has it, for AVX2 (floor and the jump's ceil one instruction each; no fused
+// multiply-add, so the same samples bit for bit; round 6).
 //
 // Ray cells. The tables above know a cell, not the ray's stretch through it: on rendering 1 half
 // of the cortex's lattice packets (1.6 M of 3.1 M at 512² × 2 spp, 14.9 M of its 30.9 M points)
@@ -146,7 +149,8 @@ struct DvrSettings {
     // Lattice packets (volume/dvr_simd.h): at steps below 1/4 voxel, trilinear values from the
     // dense copy and the B-spline's ray polynomial are computed for up to 16 consecutive lattice
     // points at once with SIMD — the same bits as one by one. false (or LOBE_SIMD=off in the
-    // environment) keeps the scalar path, the reference.
+    // environment) keeps the scalar path, the reference; it also keeps the coarse-step path's
+    // baseline copy instead of its AVX2 one (VolumeRaySampler::coarsePathAvx2; the same bits).
     bool simd = true;
 };
 
@@ -313,11 +317,21 @@ public:
     // Whether this ray runs next()'s coarse-step path (octant tables, trilinear, steps ≥ 0.3
     // voxel, no clip gaps or pre-integration): the same samples with fewer branches.
     bool coarsePath() const { return coarseTrilinear_; }
+    // Whether it runs that path's AVX2 copy (CPUs with AVX2, unless DvrSettings::simd is false
+    // or LOBE_SIMD=off): the same samples bit for bit.
+    bool coarsePathAvx2() const { return coarseAvx2_; }
 
 private:
     // Moves k_ to the first lattice point past the box [lo, lo + size)³ (index space), which
     // must be transparent, counting the points passed as skipped.
     void jumpPastBox(const int lo[3], int size);
+    // The lattice index jumpPastBox moves to from index k.
+    long long pastBox(const int lo[3], int size, long long k) const;
+    // The lattice index past the transparent cells ahead of the point at index k in cell
+    // (table coordinates q = cell − brickLo_), whose octant distance is d ≥ 1: past the octant's
+    // cube of side d, or past the cube of transparent bricks around it when d is capped and that
+    // reaches further (skipByCellDistance and the coarse path).
+    long long pastTransparentCells(const int q[3], const int cell[3], int d, long long k) const;
     // The empty-space test of next() through the cell distance table for the lattice point p:
     // true when it moved k_ past transparent points (the caller goes on to the next point),
     // false when p must be evaluated.
@@ -326,6 +340,12 @@ private:
     // next() at coarse steps with the octant tables and trilinear values, without clipping
     // intervals or pre-integration (begin() decides): the same samples, fewer branches.
     bool nextCoarseTrilinear(double tEnd, VolumeSample& s, bool withNormal);
+    // The same compiled for AVX2 (coarseAvx2_; volume_marcher.cpp), and the loop both run: the
+    // lattice index and the counters in locals, written back when it returns.
+    bool nextCoarseTrilinearAvx2(double tEnd, VolumeSample& s, bool withNormal);
+    template <bool kFloorInstruction>
+    [[gnu::always_inline]] inline bool coarseTrilinearLoop(double tEnd, VolumeSample& s,
+                                                           bool withNormal);
     // The B-spline path's third level of skipping (header, "Ray cells"): at the first point
     // next() evaluates in a cell, whether the Bernstein bound of the ray's polynomial over its
     // stretch through the cell lies outside the TF's visible values; sets cell to the cell.
@@ -356,6 +376,7 @@ private:
         return true;
     }
     bool coarseTrilinear_ = false;
+    bool coarseAvx2_ = false;  // coarsePathAvx2()
     // Ray parameter where the ray leaves the last visible cell skipByCellDistance found (fine
     // steps only): points before it are evaluated without a table read.
     double visibleCellEnd_ = -std::numeric_limits<double>::infinity();

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 
 namespace lobe {
@@ -189,9 +190,19 @@ bool sameBits(const Spectrum& a, const Spectrum& b) {
     return std::memcmp(a.v.data(), b.v.data(), sizeof a.v) == 0;
 }
 
+// The tolerance of Ward's and Ashikhmin–Shirley's SIMD kernels (render/shading_simd.h) on a
+// specular sum S = Σ f_s · s · I · g (per band, here times the highlight): |Δ| ≤ 1e-12 · S +
+// 1e-290.
+constexpr double kAnisoRelative = 1e-12, kAnisoAbsolute = 1e-290;
+
 // 200 random points of material m (its specularOn is varied) against the plain loop; returns the
-// number of cases.
-int checkAgainstThePlainLoop(Material m, const std::string& name, Rng& rng) {
+// number of cases. largest null: bit for bit. Otherwise (Ward's and A–S's kernels): the Lambert
+// sum and the count bit for bit, the specular sum within kAniso…, shade() within that plus the
+// rounding of the sums it adds the difference to (1e-14 of the value); half of the viewers near a
+// light's mirror direction (the highlight, where the power matters), and *largest the largest
+// |Δ specular| / S seen.
+int checkAgainstThePlainLoop(Material m, const std::string& name, Rng& rng,
+                             double* largest = nullptr) {
     const auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * rng.uniform(); };
     const auto unit = [&] {
         for (;;) {
@@ -219,15 +230,38 @@ int checkAgainstThePlainLoop(Material m, const std::string& name, Rng& rng) {
         point.frame = Frame::fromNormalAndAxis(unit(), Vec3(0, 0, 1), Vec3(1, 0, 0));
         point.shadow = trial % 3 == 0 ? shadow.data() : nullptr;
         m.specularOn = trial % 13 != 0;
-        const Vec3 toViewer = unit();
+        Vec3 toViewer = unit();
+        if (largest && trial % 2) {
+            const Vec3 n = point.frame.n, toLight = normalized(lights[0].position - p);
+            const Vec3 mirror = n * (2.0 * n.dot(toLight)) - toLight;
+            if (mirror.length2() > 0.5) toViewer = normalized(mirror + unit() * 0.02);
+        }
 
         long long expectedCount = 0, count = 0;
         const ShadingTerms a = shadeTerms(point, toViewer, lights);
         const ShadingTerms b = reference::shadeTerms(point, toViewer, lights, expectedCount);
         EXPECT_TRUE(sameBits(a.lambert, b.lambert)) << name << " trial " << trial;
-        EXPECT_TRUE(sameBits(a.specular, b.specular)) << name << " trial " << trial;
         const Spectrum L = shade(point, toViewer, lights, count);
         EXPECT_EQ(count, expectedCount) << name << " trial " << trial;
+        if (largest) {
+            Spectrum ref = b.lambert + b.specular;
+            if (point.highlight == point.colour)
+                ref = point.colour *
+                      reference::directLighting(m, point.frame, p, toViewer, lights, point.shadow);
+            for (int band = 0; band < 3; ++band) {
+                const double S = b.specular[band], d = std::abs(a.specular[band] - S);
+                EXPECT_LE(d, kAnisoRelative * S + kAnisoAbsolute)
+                    << name << " trial " << trial << " band " << band << ": " << a.specular[band]
+                    << " against " << S;
+                EXPECT_LE(std::abs(L[band] - ref[band]),
+                          kAnisoRelative * S + kAnisoAbsolute + 1e-14 * std::abs(ref[band]))
+                    << name << " trial " << trial << " band " << band;
+                if (S > 0.0) *largest = std::max(*largest, d / S);
+            }
+            ++cases;
+            continue;
+        }
+        EXPECT_TRUE(sameBits(a.specular, b.specular)) << name << " trial " << trial;
         if (point.highlight == point.colour) {
             const Spectrum ref =
                 point.colour *
@@ -244,6 +278,8 @@ int checkAgainstThePlainLoop(Material m, const std::string& name, Rng& rng) {
     return cases;
 }
 
+// Ward and Ashikhmin–Shirley with their default parameters (one shape for all bands) take their
+// SIMD kernels: within the kernels' tolerance (the test after the next).
 TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
     Rng rng(31, 7);
     int cases = 0;
@@ -252,7 +288,10 @@ TEST(Shading, FastLightLoopEqualsThePlainOneBitForBit) {
         m.specular = makeBrdf(info.name);
         m.kd = Spectrum(0.2, 0.5, 0.7);
         m.specularScale = 0.8;
-        cases += checkAgainstThePlainLoop(m, info.name, rng);
+        const std::string name = info.name;
+        double largest = 0.0;
+        const bool kernel = name == "ward" || name == "ashikhmin_shirley";
+        cases += checkAgainstThePlainLoop(m, name, rng, kernel ? &largest : nullptr);
     }
     EXPECT_EQ(cases, 200 * int(brdfModels().size()));
 }
@@ -290,6 +329,107 @@ TEST(Shading, PhongKernelEqualsThePlainLoopBitForBit) {
     }
     hwy::SetSupportedTargetsForTest(0);
     EXPECT_GE(targets, 1);
+}
+
+// Ward and Ashikhmin–Shirley with one shape for all bands go through their SIMD kernels
+// (render/shading_simd.h): every target this CPU runs against the plain loop with evalBrdf
+// (std::exp, std::pow), the specular sums within |Δ| ≤ 1e-12 · S + 1e-290 and the rest bit for bit
+// (checkAgainstThePlainLoop). The shapes span the parameter ranges (Ward αx, αy ∈ [1e-3, 1];
+// A–S nu, nv ∈ [0, 1e6], where (h.z)^e underflows), with per-band reflectances and a zero one;
+// per-band shapes take the model's own loop, bit for bit. The kernels do differ from the loop (the
+// largest difference is > 0: the comparison is not vacuous, and fails without the kernels).
+TEST(Shading, AnisoKernelsAreThePlainLoopWithinTheirTolerance) {
+    std::vector<std::pair<std::string, Material>> shared, perBand;
+    const auto add = [](std::vector<std::pair<std::string, Material>>& to, const std::string& name,
+                        const Brdf& brdf) {
+        Material m;
+        m.specular = brdf;
+        m.kd = Spectrum(0.8, 0.75, 0.1);
+        m.specularScale = 1.7;
+        to.push_back({name, m});
+    };
+    for (const auto& [ax, ay] : std::vector<std::pair<double, double>>{
+             {0.05, 0.3}, {1e-3, 1e-3}, {1.0, 1e-3}, {1.0, 1.0}, {0.2, 0.2}}) {
+        for (const Spectrum& rho : {Spectrum(0.05), Spectrum(0.9, 0.4, 0.0)}) {
+            Ward w;
+            w.alphaX = Spectrum(ax);
+            w.alphaY = Spectrum(ay);
+            w.rhoS = rho;
+            add(shared, "ward " + std::to_string(ax) + " " + std::to_string(ay), w);
+        }
+    }
+    for (const auto& [nu, nv] : std::vector<std::pair<double, double>>{
+             {10.0, 1000.0}, {0.0, 0.0}, {1.0, 1.0}, {1e6, 1e6}, {1e6, 0.0}, {100.0, 100.0}}) {
+        for (const Spectrum& rs : {Spectrum(0.05), Spectrum(0.9, 0.4, 0.0)}) {
+            AshikhminShirley as;
+            as.nu = Spectrum(nu);
+            as.nv = Spectrum(nv);
+            as.rs = rs;
+            add(shared, "A-S " + std::to_string(nu) + " " + std::to_string(nv), as);
+        }
+    }
+    Ward wardBands;
+    wardBands.alphaX = Spectrum(0.05, 0.1, 0.05);
+    add(perBand, "ward per band", wardBands);
+    AshikhminShirley asBands;
+    asBands.nv = Spectrum(1000.0, 1000.0, 10.0);
+    add(perBand, "A-S per band", asBands);
+
+    int targets = 0;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        const std::string targetName = hwy::TargetName(target);
+        Rng rng(34, 9);
+        double largest = 0.0;
+        int cases = 0;
+        for (const auto& [name, m] : shared)
+            cases += checkAgainstThePlainLoop(m, targetName + " " + name, rng, &largest);
+        for (const auto& [name, m] : perBand)
+            cases += checkAgainstThePlainLoop(m, targetName + " " + name, rng);
+        EXPECT_EQ(cases, 200 * int(shared.size() + perBand.size()));
+        EXPECT_GT(largest, 0.0) << targetName;
+        std::printf("%s: largest specular difference / S: %.17g\n", targetName.c_str(), largest);
+        ++targets;
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    EXPECT_GE(targets, 1);
+}
+
+// Ashikhmin–Shirley with wi ≈ −wo at the horizon: wi = (0, 1, 7e-155), wo = (1e-154, −1, 7e-155),
+// |wi + wo|² ≈ 2.96e-308 is below twice the smallest normal double, where Imath's length() takes
+// its tiny-vector path. There h.z ≈ 0.81, and with nu = 3200 f_s ≈ 1e23 is not clamped: the
+// kernel hands such a point back and the model's loop lights it — bit for bit (the kernel's own
+// power would differ from std::pow's).
+TEST(Shading, AnisoKernelLeavesATinyHalfVectorToTheLoop) {
+    Material m;
+    AshikhminShirley as;
+    as.nu = Spectrum(3200.0);
+    as.nv = Spectrum(0.0);
+    m.specular = as;
+    m.kd = Spectrum(0.2);
+    ShadingPoint point;
+    point.material = &m;
+    point.colour = Spectrum(0.9, 0.6, 0.3);
+    point.highlight = Spectrum(1.0);
+    point.frame = Frame();  // t = x, b = y, n = z
+    const std::vector<PointLight> lights = {{Vec3(0.0, 100.0, 7e-153), Spectrum(1e3)}};
+    const Vec3 toViewer(1e-154, -1.0, 7e-155);
+    const Vec3 sum = Vec3(0.0, 1.0, 7e-155) + toViewer;
+    EXPECT_LT(sum.length2(), 2.0 * std::numeric_limits<double>::min());
+    const Spectrum f = evalBrdf(m.specular, Vec3(0.0, 1.0, 7e-155), toViewer);
+    EXPECT_GT(f[0], 1e15);
+    EXPECT_LT(f[0], kMaxBrdfValue);
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        hwy::SetSupportedTargetsForTest(target);
+        long long n = 0;
+        const ShadingTerms a = shadeTerms(point, toViewer, lights);
+        const ShadingTerms b = reference::shadeTerms(point, toViewer, lights, n);
+        EXPECT_EQ(n, 1);
+        EXPECT_GT(b.specular[0], 0.0);
+        EXPECT_TRUE(sameBits(a.lambert, b.lambert)) << hwy::TargetName(target);
+        EXPECT_TRUE(sameBits(a.specular, b.specular)) << hwy::TargetName(target);
+    }
+    hwy::SetSupportedTargetsForTest(0);
 }
 
 }  // namespace

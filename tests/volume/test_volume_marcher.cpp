@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace lobe {
@@ -652,6 +653,72 @@ TEST(VolumeMarcher, CoarsePathGivesTheSamplesOfThePlainMarch) {
         ASSERT_TRUE(s.begin(ray, 0.5));
         EXPECT_FALSE(s.coarsePath());
     }
+}
+
+TEST(VolumeMarcher, CoarsePathAvx2CopyGivesTheBaselineSamplesBitForBit) {
+    // The coarse path's AVX2 copy (VolumeRaySampler::coarsePathAvx2, where the CPU has AVX2)
+    // against its baseline copy (DvrSettings::simd = false): every sample's t, value, opacity,
+    // colour, world position, gradient and normal equal, marched in segments of random length
+    // (the loop writes its lattice index back at each return), and the counters equal. Narrow
+    // tents and the cortex preset, trilinear at the coarse steps, with random jitter.
+    const Spectrum a(0.2, 0.4, 0.9), b(0.9, 0.5, 0.1);
+    const TransferFunction tents({{0.39, 0.0, a},
+                                  {0.4, 0.3, b},
+                                  {0.41, 0.0, a},
+                                  {0.5, 0.0, b},
+                                  {0.52, 0.45, a},
+                                  {0.54, 0.0, b}});
+    const bool avx2 = __builtin_cpu_supports("avx2");
+    long long compared = 0;
+    for (const TransferFunction& tf : {tents, TransferFunction::cortex(0.4, 0.3)})
+        for (double step : {1.0, 0.575, 0.5, 0.3}) {
+            DvrSettings vector, baseline;
+            vector.stepVoxels = baseline.stepVoxels = step;
+            baseline.simd = false;
+            std::vector<Vec3> centres;
+            const openvdb::FloatGrid::Ptr grid = randomBalls(63, 6, &centres);
+            const DvrVolume vv(grid, tf, vector), vb(grid, tf, baseline);
+            for (int n = 0; n < 120; ++n) {
+                Rng rng(23, n);
+                const Ray ray = rayAtBall(centres, n, rng);
+                const double jitter = rng.uniform();
+                VolumeRaySampler sv(vv), sb(vb);
+                ASSERT_EQ(sv.begin(ray, jitter), sb.begin(ray, jitter));
+                EXPECT_TRUE(sv.coarsePath() && sb.coarsePath());
+                EXPECT_EQ(sv.coarsePathAvx2(), avx2);
+                EXPECT_FALSE(sb.coarsePathAvx2());
+                double tEnd = sv.tEnter();
+                while (true) {
+                    tEnd += 40.0 * rng.uniform() * sv.stepT();
+                    VolumeSample x, y;
+                    const bool withNormal = rng.uniform() < 0.5;
+                    const bool hv = sv.next(tEnd, x, withNormal), hb = sb.next(tEnd, y, withNormal);
+                    ASSERT_EQ(hv, hb);
+                    EXPECT_EQ(sv.peekT(), sb.peekT());
+                    if (!hv) {
+                        if (sv.peekT() == std::numeric_limits<double>::infinity()) break;
+                        continue;
+                    }
+                    if (!withNormal) {
+                        sv.addNormal(x);
+                        sb.addNormal(y);
+                    }
+                    ++compared;
+                    EXPECT_EQ(x.t, y.t);
+                    EXPECT_EQ(x.value, y.value);
+                    EXPECT_EQ(x.alpha, y.alpha);
+                    EXPECT_EQ(x.colour, y.colour);
+                    EXPECT_EQ(x.position, y.position);
+                    EXPECT_EQ(x.indexPosition, y.indexPosition);
+                    EXPECT_EQ(x.gradient, y.gradient);
+                    EXPECT_EQ(x.normal, y.normal);
+                    EXPECT_EQ(x.hasNormal, y.hasNormal);
+                }
+                EXPECT_EQ(sv.samplesEvaluated(), sb.samplesEvaluated());
+                EXPECT_EQ(sv.samplesSkipped(), sb.samplesSkipped());
+            }
+        }
+    EXPECT_GT(compared, 2000);
 }
 
 TEST(VolumeMarcher, CellDistancesOnlyWhereTheyApply) {
