@@ -15,6 +15,60 @@ double correctOpacity(double alphaVoxel, double stepInVoxels) {
     return -std::expm1(stepInVoxels * std::log1p(-alphaVoxel));
 }
 
+OpacityCorrection::OpacityCorrection(double stepInVoxels, double alphaMax) {
+    if (!(stepInVoxels > 0.0) || !std::isfinite(stepInVoxels))
+        throw Error("opacity correction: the step must be > 0 and finite, got " +
+                    std::to_string(stepInVoxels));
+    r_ = stepInVoxels;
+    top_ = std::min(alphaMax, kTopLimit);
+    if (!(top_ > 0.0)) {
+        top_ = -1.0;  // nothing visible: no table
+        return;
+    }
+    const int n = int(std::ceil(top_ * kIntervalsPerUnit));
+    const double h = 1.0 / kIntervalsPerUnit;
+    invH_ = kIntervalsPerUnit;
+    last_ = n - 1;
+    coef_.assign(size_t(n) * kCoefs, 0.0);
+    // Chebyshev nodes y_j = cos((2j + 1)π / 12) on [−1, 1], u = y / 2 (Trefethen 2013, ch. 2).
+    constexpr int m = kCoefs;
+    long double y[m], q[m];
+    for (int j = 0; j < m; ++j)
+        y[j] = std::cos((2.0L * j + 1.0L) * 3.14159265358979323846L / (2 * m));
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < m; ++j) {
+            const double a = (double(i) + 0.5 + 0.5 * double(y[j])) * h;
+            q[j] = (long double)correctOpacity(a, r_) / a;
+        }
+        // Chebyshev coefficients of the interpolant: c_k = (2/m) Σ_j q_j T_k(y_j), c_0 halved
+        // (the discrete orthogonality of T_k at the Chebyshev points).
+        long double cheb[m];
+        for (int k = 0; k < m; ++k) {
+            long double s = 0.0L;
+            for (int j = 0; j < m; ++j)
+                s += q[j] * std::cos(k * (2.0L * j + 1.0L) * 3.14159265358979323846L / (2 * m));
+            cheb[k] = s * 2.0L / m * (k == 0 ? 0.5L : 1.0L);
+        }
+        // To powers of y (T_{k+1} = 2y T_k − T_{k−1}), then of u = y / 2: y^p = 2^p u^p.
+        long double t0[m] = {1.0L}, t1[m] = {0.0L, 1.0L}, mono[m] = {};
+        for (int k = 0; k < m; ++k) {
+            const long double* t = k == 0 ? t0 : t1;
+            for (int p = 0; p < m; ++p) mono[p] += cheb[k] * t[p];
+            if (k >= 1 && k + 1 < m) {
+                long double t2[m];
+                for (int p = 0; p < m; ++p) t2[p] = (p > 0 ? 2.0L * t1[p - 1] : 0.0L) - t0[p];
+                for (int p = 0; p < m; ++p) {
+                    t0[p] = t1[p];
+                    t1[p] = t2[p];
+                }
+            }
+        }
+        long double scale = 1.0L;
+        for (int p = 0; p < m; ++p, scale *= 2.0L)
+            coef_[size_t(i) * m + size_t(p)] = double(mono[p] * scale);
+    }
+}
+
 TransferFunction::TransferFunction(std::vector<TfPoint> points, const std::string& name)
     : points_(std::move(points)) {
     for (size_t i = 0; i < points_.size(); ++i) {

@@ -262,6 +262,15 @@ DvrVolume::DvrVolume(openvdb::FloatGrid::ConstPtr grid, TransferFunction tf,
     computeClearance();
     if (settings_.preIntegrated) pre_ = std::make_shared<const PreIntegratedTf>(tf_);
     tfArrays_ = std::make_shared<const TfArrays>(tf_);
+    double alphaMax = 0.0;
+    for (const TfPoint& q : tf_.points()) alphaMax = std::max(alphaMax, q.opacity);
+    correction_ = OpacityCorrection(settings_.stepVoxels, alphaMax);
+    // The values outside [visibleLo_, visibleHi_] are transparent (the first and last of the
+    // TF's transparent ranges when they reach ±inf; at their finite end the opacity may already
+    // be > 0, a step, so the comparisons there are strict).
+    const auto ranges = tf_.transparentRanges();
+    if (!ranges.empty() && ranges.front().first == -kInf) visibleLo_ = ranges.front().second;
+    if (!ranges.empty() && ranges.back().second == kInf) visibleHi_ = ranges.back().first;
 }
 
 void DvrVolume::computeClearance() {
@@ -490,6 +499,8 @@ bool VolumeRaySampler::begin(const Ray& ray, double jitter, double stepScale) {
     rayPolynomial_ = vol_->settings_.reconstruction == Reconstruction::kCubicBSpline &&
                      stepVoxels_ < kRayPolynomialStep;
     kLast_ = std::floor((tExit_ - tEnter_) / dt_ - jitter_);
+    boundRayCells_ = rayPolynomial_ && !vol_->pre_ && vol_->settings_.emptySpaceSkipping;
+    boundCell_[0] = boundCell_[1] = boundCell_[2] = std::numeric_limits<int>::min();
     // Lattice packets: about one voxel of the ray at a time, at most LatticePacket::kMaxPoints;
     // trilinear from the dense copy or the B-spline's ray polynomial, without pre-integration.
     packetN_ = 0;
@@ -612,6 +623,13 @@ bool VolumeRaySampler::next(double tEnd, VolumeSample& s, bool withNormal) {
                     continue;
                 }
                 skippable = true;
+            }
+        }
+        if (boundRayCells_ && !(packetSize_ > 0 && k_ >= packetK0_ && k_ - packetK0_ < packetN_)) {
+            int cell[3];
+            if (rayCellTransparent(t, cell)) {
+                jumpPastBox(cell, 1);
+                continue;
             }
         }
         ++evaluated_;
@@ -746,6 +764,55 @@ bool VolumeRaySampler::coarseTrilinearLoop(double tEnd, VolumeSample& s, bool wi
     evaluated_ += evaluated;
     skipped_ += skipped;
     return false;
+}
+
+bool VolumeRaySampler::rayCellTransparent(double t, int cell[3]) {
+    double t0;
+    const double* c = recon_.rayPolynomial(oIdx_, dIdx_, t, t0, cell);
+    if (cell[0] == boundCell_[0] && cell[1] == boundCell_[1] && cell[2] == boundCell_[2])
+        return false;  // bounded at the first point of this cell: not transparent
+    for (int a = 0; a < 3; ++a) boundCell_[a] = cell[a];
+    // The ray's exit from the cell, a hair late (a longer stretch only widens the bound).
+    double tOut = kInf;
+    for (int a = 0; a < 3; ++a) {
+        if (dIdx_[a] == 0.0) continue;
+        const double bound = dIdx_[a] > 0.0 ? double(cell[a]) + 1.0 : double(cell[a]);
+        tOut = std::min(tOut, (bound - oIdx_[a]) * invDIdx_[a]);
+    }
+    const double len = tOut - t0 + 1e-9 * dt_;
+    if (!(len >= 0.0) || !std::isfinite(len)) return false;
+    // Bernstein coefficients of f(t0 + s) = Σ c_k s^k on s in [0, len]:
+    // b_i = Σ_{k ≤ i} C(i, k) / C(9, k) · c_k len^k; f lies between their min and max (the
+    // convex-hull property; Farouki & Rajan, CAGD 4, 1987). Stops as soon as the range so far
+    // reaches the visible values.
+    static const std::array<std::array<double, 10>, 10> w = [] {
+        std::array<std::array<double, 10>, 10> m{};
+        double binom[10][10] = {};
+        for (int n = 0; n < 10; ++n) {
+            binom[n][0] = 1.0;
+            for (int k = 1; k <= n; ++k)
+                binom[n][k] = binom[n - 1][k - 1] + (k < n ? binom[n - 1][k] : 0.0);
+        }
+        for (int i = 0; i < 10; ++i)
+            for (int k = 0; k <= i; ++k) m[size_t(i)][size_t(k)] = binom[i][k] / binom[9][k];
+        return m;
+    }();
+    double a[10];
+    double pw = 1.0;
+    for (int k = 0; k < 10; ++k, pw *= len) a[k] = c[k] * pw;
+    const double lo = vol_->visibleLo_, hi = vol_->visibleHi_;
+    double bMin = kInf, bMax = -kInf;
+    for (int i = 0; i < 10; ++i) {
+        double b = 0.0;
+        for (int k = 0; k <= i; ++k) b += w[size_t(i)][size_t(k)] * a[k];
+        bMin = std::min(bMin, b);
+        bMax = std::max(bMax, b);
+        // The same margin as the brick and cell tables (kRangeMargin), for the rounding of the
+        // polynomial's evaluations (~1e-13 of the values) and of these sums.
+        const double m = kRangeMargin * std::max(1.0, std::max(std::abs(bMin), std::abs(bMax)));
+        if (bMax + m >= lo && bMin - m <= hi) return false;
+    }
+    return true;
 }
 
 bool VolumeRaySampler::fillPacket() {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -112,6 +113,63 @@ TEST(TransferFunction, OpacityCorrection) {
     for (int i = 0; i < 20; ++i) t *= 1.0 - correctOpacity(0.3, 0.05);
     EXPECT_NEAR(1.0 - t, 0.3, 1e-14);
     EXPECT_EQ(correctOpacity(0.0, 0.05), 0.0);
+}
+
+TEST(TransferFunction, OpacityCorrectionTableMatchesTheFormula) {
+    // The table (transfer_function.h: within 2e-15 of correctOpacity on [0, top], the formula
+    // itself elsewhere) against correctOpacity for α from 1e-6 to 0.999 (log-spaced and
+    // uniform) and exponents from 0.01 to 16, with top 0.2 (the cortex shell) and 0.75 (the
+    // limit). Hand values: 1 − (1 − 0.5)² = 0.75, 1 − 0.5^0.5 = 1 − √½.
+    const OpacityCorrection square(2.0, 0.75), root(0.5, 0.75);
+    EXPECT_NEAR(square.correct(0.5, 2.0), 0.75, 4e-15 * 0.75);
+    EXPECT_NEAR(root.correct(0.5, 0.5), 1.0 - std::sqrt(0.5), 4e-15 * (1.0 - std::sqrt(0.5)));
+    const double exponents[] = {0.01, 0.02, 0.05, 0.1, 0.3, 0.5, 0.79,
+                                1.0,  1.26, 1.59, 2.0, 3.5, 4.0, 16.0};
+    for (double top : {0.2, 0.75})
+        for (double r : exponents) {
+            const OpacityCorrection table(r, top);
+            ASSERT_TRUE(table.tabulated());
+            EXPECT_EQ(table.top(), top);
+            double worst = 0.0;
+            for (int k = 0; k <= 20000; ++k) {
+                const double a =
+                    k % 2 ? 1e-6 * std::pow(0.999 / 1e-6, k / 20000.0) : 0.999 * k / 20000.0;
+                const double exact = correctOpacity(a, r);
+                const double got = table.correct(a, r);
+                if (a > top || a <= 0.0) {
+                    EXPECT_EQ(got, exact) << "alpha " << a << ", r " << r;
+                    continue;
+                }
+                worst = std::max(worst, std::abs(got - exact) / exact);
+            }
+            EXPECT_LE(worst, 4e-15) << "r " << r << ", top " << top;
+            // The interval ends and top itself (the last interval takes α = top).
+            for (double a : {1.0 / 256, 2.0 / 256, 0.5 * top, top})
+                EXPECT_NEAR(table.correct(a, r), correctOpacity(a, r),
+                            4e-15 * correctOpacity(a, r));
+        }
+}
+
+TEST(TransferFunction, OpacityCorrectionTableOnlyForItsExponent) {
+    const OpacityCorrection table(0.05, 0.2);
+    // A ray's exponent a few ulps from the table's takes the table (within 2e-14 of the
+    // formula); one 1e-12 away, and any α above top or ≤ 0, takes the formula bit for bit.
+    const double near = 0.05 * (1.0 + 4e-16), far = 0.05 * (1.0 + 1e-12);
+    for (double a : {1e-6, 0.001, 0.05, 0.1999}) {
+        EXPECT_NEAR(table.correct(a, near), correctOpacity(a, near),
+                    2e-14 * correctOpacity(a, near));
+        EXPECT_EQ(table.correct(a, near), table.correct(a, 0.05));
+        EXPECT_EQ(table.correct(a, far), correctOpacity(a, far));
+    }
+    EXPECT_EQ(table.correct(0.3, 0.05), correctOpacity(0.3, 0.05));
+    EXPECT_EQ(table.correct(0.0, 0.05), 0.0);
+    EXPECT_EQ(table.correct(-0.1, 0.05), 0.0);
+    // No visible opacity: no table; the default object has none either.
+    EXPECT_FALSE(OpacityCorrection(0.05, 0.0).tabulated());
+    EXPECT_FALSE(OpacityCorrection().tabulated());
+    EXPECT_EQ(OpacityCorrection().correct(0.3, 0.5), correctOpacity(0.3, 0.5));
+    EXPECT_THROW(OpacityCorrection(0.0, 0.2), Error);
+    EXPECT_THROW(OpacityCorrection(std::nan(""), 0.2), Error);
 }
 
 TEST(TransferFunction, PaperPresets) {

@@ -789,6 +789,46 @@ TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
     EXPECT_LE(a.samplesEvaluated(), 12);
 }
 
+TEST(VolumeMarcher, BSplineRayCellsAreSkippedByTheRaysBernsteinBound) {
+    // The ramp f = x again, opacity only on [5.2, 5.8]: cell x in [5, 6) holds values [5, 6] and
+    // is visible to the tables, but a ray along y at x = 5.1 sees 5.1 throughout. At step 0.05
+    // (the ray polynomial) the Bernstein bound of its polynomial over each cell's stretch,
+    // [5.1, 5.1], lies below 5.2: no point is reconstructed (before: every point, ~220), in the
+    // packet and the scalar path alike. A ray at x = 5.5 is visible everywhere and must give
+    // the samples of the march without skipping; a diagonal one through x = 4.5 … 5.6 has
+    // visible and transparent stretches in one cell row.
+    const openvdb::FloatGrid::Ptr grid =
+        test::makeGrid([](int i, int, int) { return double(i); }, Coord(0), Coord(15));
+    const TransferFunction shell({{5.2, 0.0, Spectrum(1.0)},
+                                  {5.2, 0.2, Spectrum(1.0)},
+                                  {5.8, 0.2, Spectrum(1.0)},
+                                  {5.8, 0.0, Spectrum(1.0)}});
+    for (bool simd : {true, false}) {
+        SCOPED_TRACE(simd ? "packets" : "scalar");
+        DvrSettings on, off;
+        on.reconstruction = off.reconstruction = Reconstruction::kCubicBSpline;
+        on.stepVoxels = off.stepVoxels = 0.05;
+        on.simd = off.simd = simd;
+        off.emptySpaceSkipping = false;
+        const DvrVolume vOn(grid, shell, on), vOff(grid, shell, off);
+        Ray ray;
+        ray.o = Vec3(5.1, 2.0, 7.6);
+        ray.d = Vec3(0.0, 1.0, 0.0);
+        ray.tMax = 11.0;  // y from 2 to 13, inside the ramp's reproduction
+        VolumeRaySampler a(vOn), b(vOff);
+        EXPECT_EQ(expectSameSamples(a, b, ray, 0.37), 0);
+        EXPECT_EQ(a.samplesEvaluated(), 0);
+        EXPECT_GE(a.samplesSkipped(), 200);
+        ray.o = Vec3(5.5, 2.0, 7.6);
+        EXPECT_GE(expectSameSamples(a, b, ray, 0.37), 200);
+        ray.o = Vec3(4.5, 2.0, 7.6);
+        ray.d = Vec3(0.1, 1.0, 0.0).normalized();
+        const int visible = expectSameSamples(a, b, ray, 0.61);
+        EXPECT_GT(visible, 50);  // x from 5.2 to 5.6: ~4 of the 11 voxels of y
+        EXPECT_LT(a.samplesEvaluated(), b.samplesEvaluated());
+    }
+}
+
 TEST(VolumeMarcher, SegmentsKeepTheLattice) {
     // Marching in random pieces (as an integrator does between surface hits) yields the same
     // samples as one march.
