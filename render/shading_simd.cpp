@@ -27,6 +27,27 @@ using V = hn::Vec<D>;
 
 constexpr int kChunk = 8;  // lights per pass
 
+// clampBrdfValue (materials/brdf.h) lane by lane: NaN → 0, then std::clamp(v, 0, max).
+HWY_INLINE V ClampBrdf(V v) {
+    const D d;
+    const V zero = hn::Zero(d), big = hn::Set(d, kMaxBrdfValue);
+    const V f = hn::IfThenElse(hn::Lt(v, zero), zero, hn::IfThenElse(hn::Lt(big, v), big, v));
+    return hn::IfThenElse(hn::IsNaN(v), zero, f);
+}
+
+// One light's share of the band sums, in the scalar loop's order: (kd/π + f_s · s) · I · g
+// into `lambert` when `combined`, else kd/π · I · g there and f_s · s · I · g into `spec`.
+HWY_INLINE void AddLight(bool combined, bool specularOn, V diffuse, V f, V scale, V I, V gk,
+                         V& lambert, V& spec) {
+    if (combined) {
+        const V sum = specularOn ? hn::Add(diffuse, hn::Mul(f, scale)) : diffuse;
+        lambert = hn::Add(lambert, hn::Mul(hn::Mul(sum, I), gk));
+    } else {
+        lambert = hn::Add(lambert, hn::Mul(hn::Mul(diffuse, I), gk));
+        if (specularOn) spec = hn::Add(spec, hn::Mul(hn::Mul(hn::Mul(f, scale), I), gk));
+    }
+}
+
 void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, bool combined,
                         PhongSums& sums) {
     const D d;
@@ -42,7 +63,7 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
             woz = hn::Set(d, point.wo.z);
     const V vx = hn::Set(d, point.toViewer.x), vy = hn::Set(d, point.toViewer.y),
             vz = hn::Set(d, point.toViewer.z);
-    const V zero = hn::Zero(d), one = hn::Set(d, 1.0), big = hn::Set(d, kMaxBrdfValue);
+    const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
     const V scale = hn::Set(d, point.specularScale);
 
     const int n = table.count;
@@ -110,22 +131,8 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
                 const V I = hn::LoadU(d, table.intensity + 4 * (start + k) + b);
                 const V gk = hn::Set(d, g[k]);
                 V f = zero;
-                if (point.specularOn) {
-                    // clampBrdfValue (materials/brdf.h): NaN → 0, then std::clamp(v, 0, max).
-                    const V v = hn::Mul(ks, hn::Set(d, power[k]));
-                    f = hn::IfThenElse(hn::Lt(v, zero), zero,
-                                       hn::IfThenElse(hn::Lt(big, v), big, v));
-                    f = hn::IfThenElse(hn::IsNaN(v), zero, f);
-                }
-                if (combined) {
-                    // (kd/π + f_s · s) · I · g
-                    const V sum = point.specularOn ? hn::Add(diffuse, hn::Mul(f, scale)) : diffuse;
-                    lambert = hn::Add(lambert, hn::Mul(hn::Mul(sum, I), gk));
-                } else {
-                    lambert = hn::Add(lambert, hn::Mul(hn::Mul(diffuse, I), gk));
-                    if (point.specularOn)
-                        spec = hn::Add(spec, hn::Mul(hn::Mul(hn::Mul(f, scale), I), gk));
-                }
+                if (point.specularOn) f = ClampBrdf(hn::Mul(ks, hn::Set(d, power[k])));
+                AddLight(combined, point.specularOn, diffuse, f, scale, I, gk, lambert, spec);
             }
             hn::StoreU(lambert, d, sums.lambert + b);
             hn::StoreU(spec, d, sums.specular + b);
@@ -147,7 +154,7 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
     const V nx = hn::Set(d, frame.n.x), ny = hn::Set(d, frame.n.y), nz = hn::Set(d, frame.n.z);
     const V wox = hn::Set(d, point.wo.x), woy = hn::Set(d, point.wo.y),
             woz = hn::Set(d, point.wo.z);
-    const V zero = hn::Zero(d), one = hn::Set(d, 1.0), big = hn::Set(d, kMaxBrdfValue);
+    const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
     const V scale = hn::Set(d, point.specularScale);
     const V sx = hn::Set(d, point.shapeX), sy = hn::Set(d, point.shapeY);
     // Ward's normalisation 4π αx αy √(cos θi cos θo): the product's first factors, in its order.
@@ -253,19 +260,9 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
                         v = hn::Mul(hn::Div(hn::Mul(norm, hn::Set(d, t0[k])), hn::Set(d, t1[k])),
                                     fresnel);
                     }
-                    // clampBrdfValue (materials/brdf.h): NaN → 0, then std::clamp(v, 0, max).
-                    f = hn::IfThenElse(hn::Lt(v, zero), zero,
-                                       hn::IfThenElse(hn::Lt(big, v), big, v));
-                    f = hn::IfThenElse(hn::IsNaN(v), zero, f);
+                    f = ClampBrdf(v);
                 }
-                if (combined) {
-                    const V sum = point.specularOn ? hn::Add(diffuse, hn::Mul(f, scale)) : diffuse;
-                    lambert = hn::Add(lambert, hn::Mul(hn::Mul(sum, I), gk));
-                } else {
-                    lambert = hn::Add(lambert, hn::Mul(hn::Mul(diffuse, I), gk));
-                    if (point.specularOn)
-                        spec = hn::Add(spec, hn::Mul(hn::Mul(hn::Mul(f, scale), I), gk));
-                }
+                AddLight(combined, point.specularOn, diffuse, f, scale, I, gk, lambert, spec);
             }
             hn::StoreU(lambert, d, sums.lambert + b);
             hn::StoreU(spec, d, sums.specular + b);
