@@ -763,18 +763,26 @@ TEST(VolumeMarcher, OctantTablesOnlyWithinTheMemoryBudget) {
     EXPECT_GT(skipped, 1000);
 }
 
+// The ramp f = x on [0, 15]³ and a transfer function opaque (0.2) only on [5.2, 5.8]: the
+// B-spline skipping tests' scene.
+openvdb::FloatGrid::Ptr rampGrid() {
+    return test::makeGrid([](int i, int, int) { return double(i); }, Coord(0), Coord(15));
+}
+TransferFunction shellOn52To58() {
+    return TransferFunction({{5.2, 0.0, Spectrum(1.0)},
+                             {5.2, 0.2, Spectrum(1.0)},
+                             {5.8, 0.2, Spectrum(1.0)},
+                             {5.8, 0.0, Spectrum(1.0)}});
+}
+
 TEST(VolumeMarcher, BSplineCellsAreSkippedByTheirBezierRange) {
     // On the ramp f = x the cubic B-spline reproduces x exactly, so cell [c, c+1) holds values
     // [c, c+1]: its Bézier coefficients (c, c + 1/3, c + 2/3, c + 1 along x) say so, where the
     // range of its 4³ control values says [c − 1, c + 2]. With opacity only on [5.2, 5.8], a ray
     // along x at step 0.1 reconstructs the ~10 lattice points of cell 5 alone — not the ~30 of
     // cells 4, 5 and 6 — and still composites exactly the samples of the march without skipping.
-    const openvdb::FloatGrid::Ptr grid =
-        test::makeGrid([](int i, int, int) { return double(i); }, Coord(0), Coord(15));
-    const TransferFunction shell({{5.2, 0.0, Spectrum(1.0)},
-                                  {5.2, 0.2, Spectrum(1.0)},
-                                  {5.8, 0.2, Spectrum(1.0)},
-                                  {5.8, 0.0, Spectrum(1.0)}});
+    const openvdb::FloatGrid::Ptr grid = rampGrid();
+    const TransferFunction shell = shellOn52To58();
     DvrSettings on, off;
     on.reconstruction = off.reconstruction = Reconstruction::kCubicBSpline;
     on.stepVoxels = off.stepVoxels = 0.1;
@@ -797,12 +805,8 @@ TEST(VolumeMarcher, BSplineRayCellsAreSkippedByTheRaysBernsteinBound) {
     // packet and the scalar path alike. A ray at x = 5.5 is visible everywhere and must give
     // the samples of the march without skipping; a diagonal one through x = 4.5 … 5.6 has
     // visible and transparent stretches in one cell row.
-    const openvdb::FloatGrid::Ptr grid =
-        test::makeGrid([](int i, int, int) { return double(i); }, Coord(0), Coord(15));
-    const TransferFunction shell({{5.2, 0.0, Spectrum(1.0)},
-                                  {5.2, 0.2, Spectrum(1.0)},
-                                  {5.8, 0.2, Spectrum(1.0)},
-                                  {5.8, 0.0, Spectrum(1.0)}});
+    const openvdb::FloatGrid::Ptr grid = rampGrid();
+    const TransferFunction shell = shellOn52To58();
     for (bool simd : {true, false}) {
         SCOPED_TRACE(simd ? "packets" : "scalar");
         DvrSettings on, off;
