@@ -48,16 +48,76 @@ HWY_INLINE void AddLight(bool combined, bool specularOn, V diffuse, V f, V scale
     }
 }
 
+// The shaded point's position and frame in every lane.
+struct PointVectors {
+    V px, py, pz, tx, ty, tz, bx, by, bz, nx, ny, nz;
+    PointVectors(const Vec3& p, const Frame& f)
+        : px(hn::Set(D(), p.x)),
+          py(hn::Set(D(), p.y)),
+          pz(hn::Set(D(), p.z)),
+          tx(hn::Set(D(), f.t.x)),
+          ty(hn::Set(D(), f.t.y)),
+          tz(hn::Set(D(), f.t.z)),
+          bx(hn::Set(D(), f.b.x)),
+          by(hn::Set(D(), f.b.y)),
+          bz(hn::Set(D(), f.b.z)),
+          nx(hn::Set(D(), f.n.x)),
+          ny(hn::Set(D(), f.n.y)),
+          nz(hn::Set(D(), f.n.z)) {}
+};
+
+// Imath's dot order: (a.x·b.x + a.y·b.y) + a.z·b.z.
+HWY_INLINE V Dot3(V ax, V ay, V az, V bx, V by, V bz) {
+    return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
+}
+
+// The shadow factors of lights [start, start + count), or null: copied into `tail` when the
+// last vector would read past the caller's array.
+HWY_INLINE const double* ShadowChunk(const double* shadow, int start, int count, int lanes,
+                                     double* tail) {
+    if (!shadow) return nullptr;
+    const double* sh = shadow + start;
+    if (count % lanes == 0) return sh;
+    std::copy(sh, sh + count, tail);
+    return tail;
+}
+
+// Lights i … i + lanes − 1 of the chunk as lanes, core/light_directions.cpp's operations:
+// toLight = light − position, d² = toLight · toLight, u = toLight / √d²; then wi.z = u·n,
+// g = wi.z / d² (× shadow) and `ok` where d² > 0, wi.z > 0 (and g > 0 under a shadow).
+struct LightLanes {
+    V ux, uy, uz, d2, wz, g;
+    hn::Mask<D> ok;
+    LightLanes(const PointVectors& P, const double* lx, const double* ly, const double* lz,
+               const double* sh, int i) {
+        const D d;
+        const V dx = hn::Sub(hn::LoadU(d, lx + i), P.px);
+        const V dy = hn::Sub(hn::LoadU(d, ly + i), P.py);
+        const V dz = hn::Sub(hn::LoadU(d, lz + i), P.pz);
+        d2 = Dot3(dx, dy, dz, dx, dy, dz);
+        const V s = hn::Sqrt(d2);
+        ux = hn::Div(dx, s);
+        uy = hn::Div(dy, s);
+        uz = hn::Div(dz, s);
+        wz = Dot3(ux, uy, uz, P.nx, P.ny, P.nz);
+        const V zero = hn::Zero(d);
+        g = hn::Div(wz, d2);
+        ok = hn::And(hn::Lt(zero, d2), hn::Lt(zero, wz));
+        if (sh) {
+            g = hn::Mul(g, hn::LoadU(d, sh + i));
+            ok = hn::And(ok, hn::Lt(zero, g));
+        }
+    }
+    // wi.x = u·t, wi.y = u·b (Frame::toLocal).
+    V wx(const PointVectors& P) const { return Dot3(ux, uy, uz, P.tx, P.ty, P.tz); }
+    V wy(const PointVectors& P) const { return Dot3(ux, uy, uz, P.bx, P.by, P.bz); }
+};
+
 void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, bool combined,
                         PhongSums& sums) {
     const D d;
     const int lanes = int(hn::Lanes(d));
-    const Frame& frame = point.frame;
-    const V px = hn::Set(d, point.position.x), py = hn::Set(d, point.position.y),
-            pz = hn::Set(d, point.position.z);
-    const V tx = hn::Set(d, frame.t.x), ty = hn::Set(d, frame.t.y), tz = hn::Set(d, frame.t.z);
-    const V bx = hn::Set(d, frame.b.x), by = hn::Set(d, frame.b.y), bz = hn::Set(d, frame.b.z);
-    const V nx = hn::Set(d, frame.n.x), ny = hn::Set(d, frame.n.y), nz = hn::Set(d, frame.n.z);
+    const PointVectors P(point.position, point.frame);
     // Mirror of wi about n in the local frame, (−wi.x, −wi.y, wi.z) (brdf_common.h, cosAlpha).
     const V wox = hn::Set(d, point.wo.x), woy = hn::Set(d, point.wo.y),
             woz = hn::Set(d, point.wo.z);
@@ -72,42 +132,23 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
         const double* lx = table.px + start;
         const double* ly = table.py + start;
         const double* lz = table.pz + start;
-        const double* sh = point.shadow ? point.shadow + start : nullptr;
         HWY_ALIGN double shTail[kChunk] = {};
-        if (sh && count % lanes != 0) {  // the last vector would read past the caller's array
-            std::copy(sh, sh + count, shTail);
-            sh = shTail;
-        }
+        const double* sh = ShadowChunk(point.shadow, start, count, lanes, shTail);
         HWY_ALIGN double g[kChunk], power[kChunk], lit[kChunk];
         // Lights as lanes: core/light_directions.cpp's operations, then Phong's power.
         for (int i = 0; i < count; i += lanes) {
-            // toLight = light − position; d² = (x·x + y·y) + z·z; u = toLight / √d².
-            const V dx = hn::Sub(hn::LoadU(d, lx + i), px);
-            const V dy = hn::Sub(hn::LoadU(d, ly + i), py);
-            const V dz = hn::Sub(hn::LoadU(d, lz + i), pz);
-            const V d2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
-            const V s = hn::Sqrt(d2);
-            const V ux = hn::Div(dx, s), uy = hn::Div(dy, s), uz = hn::Div(dz, s);
-            // wi.z = u·n (frame.toLocal's third term); g = wi.z / d².
-            const V wz = hn::Add(hn::Add(hn::Mul(ux, nx), hn::Mul(uy, ny)), hn::Mul(uz, nz));
-            V gi = hn::Div(wz, d2);
-            auto ok = hn::And(hn::Lt(zero, d2), hn::Lt(zero, wz));
-            if (sh) {
-                gi = hn::Mul(gi, hn::LoadU(d, sh + i));
-                ok = hn::And(ok, hn::Lt(zero, gi));
-            }
+            const LightLanes L(P, lx, ly, lz, sh, i);
+            const V wz = L.wz, gi = L.g;
+            const auto ok = L.ok;
             // cos α = max(0, r(wi)·wo); std::max(0, c) = 0 < c ? c : 0.
             V c;
             if (point.frameFree) {
                 // 2 (n·u)(n·v) − u·v
-                const V uv = hn::Add(hn::Add(hn::Mul(ux, vx), hn::Mul(uy, vy)), hn::Mul(uz, vz));
+                const V uv = Dot3(L.ux, L.uy, L.uz, vx, vy, vz);
                 c = hn::Sub(hn::Mul(hn::Add(wz, wz), woz), uv);
             } else {
                 // wi = frame.toLocal(u); r(wi) = (−wi.x, −wi.y, wi.z); Imath's dot order.
-                const V wx = hn::Add(hn::Add(hn::Mul(ux, tx), hn::Mul(uy, ty)), hn::Mul(uz, tz));
-                const V wy = hn::Add(hn::Add(hn::Mul(ux, bx), hn::Mul(uy, by)), hn::Mul(uz, bz));
-                c = hn::Add(hn::Add(hn::Mul(hn::Neg(wx), wox), hn::Mul(hn::Neg(wy), woy)),
-                            hn::Mul(wz, woz));
+                c = Dot3(hn::Neg(L.wx(P)), hn::Neg(L.wy(P)), wz, wox, woy, woz);
             }
             const V cos = hn::IfThenElse(hn::Lt(zero, c), c, zero);
             // powerOfWhole (brdf_common.h): repeated squaring, the same products in the same order.
@@ -146,12 +187,7 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
                     PhongSums& sums) {
     const D d;
     const int lanes = int(hn::Lanes(d));
-    const Frame& frame = point.frame;
-    const V px = hn::Set(d, point.position.x), py = hn::Set(d, point.position.y),
-            pz = hn::Set(d, point.position.z);
-    const V tx = hn::Set(d, frame.t.x), ty = hn::Set(d, frame.t.y), tz = hn::Set(d, frame.t.z);
-    const V bx = hn::Set(d, frame.b.x), by = hn::Set(d, frame.b.y), bz = hn::Set(d, frame.b.z);
-    const V nx = hn::Set(d, frame.n.x), ny = hn::Set(d, frame.n.y), nz = hn::Set(d, frame.n.z);
+    const PointVectors P(point.position, point.frame);
     const V wox = hn::Set(d, point.wo.x), woy = hn::Set(d, point.wo.y),
             woz = hn::Set(d, point.wo.z);
     const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
@@ -167,32 +203,15 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
         const double* lx = table.px + start;
         const double* ly = table.py + start;
         const double* lz = table.pz + start;
-        const double* sh = point.shadow ? point.shadow + start : nullptr;
         HWY_ALIGN double shTail[kChunk] = {};
-        if (sh && count % lanes != 0) {  // the last vector would read past the caller's array
-            std::copy(sh, sh + count, shTail);
-            sh = shTail;
-        }
+        const double* sh = ShadowChunk(point.shadow, start, count, lanes, shTail);
         // Per light: g = cos θi / d² (× shadow), lit, and the model's terms: Ward gauss and
         // norm; A–S (h.z)^e, h·wi · max(cos θi, cos θo), 1 − clamp(h·wi) and its square.
         HWY_ALIGN double g[kChunk], lit[kChunk], t0[kChunk], t1[kChunk], t2[kChunk], t3[kChunk];
         for (int i = 0; i < count; i += lanes) {
-            // core/light_directions.cpp's operations.
-            const V dx = hn::Sub(hn::LoadU(d, lx + i), px);
-            const V dy = hn::Sub(hn::LoadU(d, ly + i), py);
-            const V dz = hn::Sub(hn::LoadU(d, lz + i), pz);
-            const V d2 = hn::Add(hn::Add(hn::Mul(dx, dx), hn::Mul(dy, dy)), hn::Mul(dz, dz));
-            const V s = hn::Sqrt(d2);
-            const V ux = hn::Div(dx, s), uy = hn::Div(dy, s), uz = hn::Div(dz, s);
-            const V wx = hn::Add(hn::Add(hn::Mul(ux, tx), hn::Mul(uy, ty)), hn::Mul(uz, tz));
-            const V wy = hn::Add(hn::Add(hn::Mul(ux, bx), hn::Mul(uy, by)), hn::Mul(uz, bz));
-            const V wz = hn::Add(hn::Add(hn::Mul(ux, nx), hn::Mul(uy, ny)), hn::Mul(uz, nz));
-            V gi = hn::Div(wz, d2);
-            auto ok = hn::And(hn::Lt(zero, d2), hn::Lt(zero, wz));
-            if (sh) {
-                gi = hn::Mul(gi, hn::LoadU(d, sh + i));
-                ok = hn::And(ok, hn::Lt(zero, gi));
-            }
+            const LightLanes L(P, lx, ly, lz, sh, i);
+            const V wx = L.wx(P), wy = L.wy(P), wz = L.wz, gi = L.g;
+            const auto ok = L.ok;
             // H = wi + wo (both models; Vec3's +).
             const V hx = hn::Add(wx, wox), hy = hn::Add(wy, woy), hz = hn::Add(wz, woz);
             if constexpr (kModel == 0) {
