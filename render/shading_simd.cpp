@@ -82,18 +82,18 @@ HWY_INLINE const double* ShadowChunk(const double* shadow, int start, int count,
     return tail;
 }
 
-// Lights i … i + lanes − 1 of the chunk as lanes, core/light_directions.cpp's operations:
-// toLight = light − position, d² = toLight · toLight, u = toLight / √d²; then wi.z = u·n,
-// g = wi.z / d² (× shadow) and `ok` where d² > 0, wi.z > 0 (and g > 0 under a shadow).
+// Lights start + i … start + i + lanes − 1 of the table as lanes (`sh`: the chunk's shadow),
+// core/light_directions.cpp's operations: toLight = light − position, d² = toLight · toLight, u =
+// toLight / √d²; then wi.z = u·n, g = wi.z / d² (× shadow) and `ok` where d² > 0, wi.z > 0 (and g >
+// 0 under a shadow).
 struct LightLanes {
     V ux, uy, uz, d2, wz, g;
     hn::Mask<D> ok;
-    LightLanes(const PointVectors& P, const double* lx, const double* ly, const double* lz,
-               const double* sh, int i) {
+    LightLanes(const PointVectors& P, const LightTable& table, int start, const double* sh, int i) {
         const D d;
-        const V dx = hn::Sub(hn::LoadU(d, lx + i), P.px);
-        const V dy = hn::Sub(hn::LoadU(d, ly + i), P.py);
-        const V dz = hn::Sub(hn::LoadU(d, lz + i), P.pz);
+        const V dx = hn::Sub(hn::LoadU(d, table.px + start + i), P.px);
+        const V dy = hn::Sub(hn::LoadU(d, table.py + start + i), P.py);
+        const V dz = hn::Sub(hn::LoadU(d, table.pz + start + i), P.pz);
         d2 = Dot3(dx, dy, dz, dx, dy, dz);
         const V s = hn::Sqrt(d2);
         ux = hn::Div(dx, s);
@@ -129,15 +129,12 @@ void PhongLightSumsImpl(const PhongPointInput& point, const LightTable& table, b
     const int n = table.count;
     for (int start = 0; start < n; start += kChunk) {
         const int count = std::min(n - start, kChunk);
-        const double* lx = table.px + start;
-        const double* ly = table.py + start;
-        const double* lz = table.pz + start;
         HWY_ALIGN double shTail[kChunk] = {};
         const double* sh = ShadowChunk(point.shadow, start, count, lanes, shTail);
         HWY_ALIGN double g[kChunk], power[kChunk], lit[kChunk];
         // Lights as lanes: core/light_directions.cpp's operations, then Phong's power.
         for (int i = 0; i < count; i += lanes) {
-            const LightLanes L(P, lx, ly, lz, sh, i);
+            const LightLanes L(P, table, start, sh, i);
             const V wz = L.wz, gi = L.g;
             const auto ok = L.ok;
             // cos α = max(0, r(wi)·wo); std::max(0, c) = 0 < c ? c : 0.
@@ -200,16 +197,13 @@ bool AnisoLightSums(const AnisoPointInput& point, const LightTable& table, bool 
     const int n = table.count;
     for (int start = 0; start < n; start += kChunk) {
         const int count = std::min(n - start, kChunk);
-        const double* lx = table.px + start;
-        const double* ly = table.py + start;
-        const double* lz = table.pz + start;
         HWY_ALIGN double shTail[kChunk] = {};
         const double* sh = ShadowChunk(point.shadow, start, count, lanes, shTail);
         // Per light: g = cos θi / d² (× shadow), lit, and the model's terms: Ward gauss and
         // norm; A–S (h.z)^e, h·wi · max(cos θi, cos θo), 1 − clamp(h·wi) and its square.
         HWY_ALIGN double g[kChunk], lit[kChunk], t0[kChunk], t1[kChunk], t2[kChunk], t3[kChunk];
         for (int i = 0; i < count; i += lanes) {
-            const LightLanes L(P, lx, ly, lz, sh, i);
+            const LightLanes L(P, table, start, sh, i);
             const V wx = L.wx(P), wy = L.wy(P), wz = L.wz, gi = L.g;
             const auto ok = L.ok;
             // H = wi + wo (both models; Vec3's +).

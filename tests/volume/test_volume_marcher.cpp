@@ -604,19 +604,24 @@ TEST(VolumeMarcher, CellDistanceJumpsChangeNoSampleOnRandomVolumes) {
             }
 }
 
+// Narrow tents (T3's shape: transparent pieces between visible ones) for the coarse-path tests.
+TransferFunction narrowTents() {
+    const Spectrum a(0.2, 0.4, 0.9), b(0.9, 0.5, 0.1);
+    return TransferFunction({{0.39, 0.0, a},
+                             {0.4, 0.3, b},
+                             {0.41, 0.0, a},
+                             {0.5, 0.0, b},
+                             {0.52, 0.45, a},
+                             {0.54, 0.0, b}});
+}
+
 TEST(VolumeMarcher, CoarsePathGivesTheSamplesOfThePlainMarch) {
     // next()'s coarse-step path (octant tables, trilinear; VolumeRaySampler::coarsePath) against
     // the plain march without skipping, which takes the general path: the same contributing
     // samples (t, value, opacity, colour), with a transfer function of narrow tents (T3's
     // shape: transparent pieces between visible ones, where the path skips the interpolation)
     // and with the cortex preset, at the coarse steps the path serves.
-    const Spectrum a(0.2, 0.4, 0.9), b(0.9, 0.5, 0.1);
-    const TransferFunction tents({{0.39, 0.0, a},
-                                  {0.4, 0.3, b},
-                                  {0.41, 0.0, a},
-                                  {0.5, 0.0, b},
-                                  {0.52, 0.45, a},
-                                  {0.54, 0.0, b}});
+    const TransferFunction tents = narrowTents();
     for (const TransferFunction& tf : {tents, TransferFunction::cortex(0.4, 0.3)})
         for (double step : {1.0, 0.575, 0.5, 0.3}) {
             DvrSettings on, off;
@@ -661,13 +666,7 @@ TEST(VolumeMarcher, CoarsePathAvx2CopyGivesTheBaselineSamplesBitForBit) {
     // colour, world position, gradient and normal equal, marched in segments of random length
     // (the loop writes its lattice index back at each return), and the counters equal. Narrow
     // tents and the cortex preset, trilinear at the coarse steps, with random jitter.
-    const Spectrum a(0.2, 0.4, 0.9), b(0.9, 0.5, 0.1);
-    const TransferFunction tents({{0.39, 0.0, a},
-                                  {0.4, 0.3, b},
-                                  {0.41, 0.0, a},
-                                  {0.5, 0.0, b},
-                                  {0.52, 0.45, a},
-                                  {0.54, 0.0, b}});
+    const TransferFunction tents = narrowTents();
     const bool avx2 = __builtin_cpu_supports("avx2");
     long long compared = 0;
     for (const TransferFunction& tf : {tents, TransferFunction::cortex(0.4, 0.3)})
