@@ -118,15 +118,6 @@ struct WalkRay {
     }
 };
 
-// Whether the CPU runs AVX-512 F, VL, DQ, BW and CD code (iso_exact.cpp's copy of the walk
-// compiled for it).
-inline bool cpuHasAvx512() {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-           __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
-           __builtin_cpu_supports("avx512cd");
-}
-
 // The first root of f − iso along the index-space ray o + t·d, t ∈ [tMin, tMax], inside the
 // brick at `origin`. corners(lx, ly, lz, c) fills c[8] (trilinear_cell.h order) for the cell at
 // origin + (lx, ly, lz), 0 ≤ l < 8; it is called for straddling cells only.

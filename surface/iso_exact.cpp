@@ -1,6 +1,7 @@
 // Exact iso-surface of a trilinear interpolant as an Embree user geometry; see iso_exact.h.
 #include "surface/iso_exact.h"
 
+#include "core/cpu_features.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "surface/brick_walk.h"

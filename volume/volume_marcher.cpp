@@ -1,5 +1,6 @@
 #include "volume/volume_marcher.h"
 
+#include "core/cpu_features.h"
 #include "core/error.h"
 #include "core/memory.h"
 
@@ -13,10 +14,6 @@ namespace lobe {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-bool cpuHasAvx2() {
-    static const bool has = __builtin_cpu_supports("avx2");
-    return has;
-}
 // B-spline support around floor(p): voxels floor(p) − 1 … floor(p) + 2 (reconstruction.h).
 constexpr int kSupportBelow = 1;
 constexpr int kSupportAbove = 2;
