@@ -171,9 +171,16 @@ Spectrum HeTorranceTable::eval(const Vec3& wi, const Vec3& wo) const {
     const double x = std::clamp(u, 0.0, 1.0) * (nHalf - 1);
     const double y = std::clamp(diffAxisOf(thetaD), 0.0, 1.0) * (nDiff - 1);
     const double z = std::clamp(phiD / kHalfPi, 0.0, 1.0) * (nPhi - 1);
-    const int ix = std::min(int(x), nHalf - 2), iy = std::min(int(y), nDiff - 2),
-              iz = std::min(int(z), nPhi - 2);
-    const double fx = x - ix, fy = y - iy, fz = z - iz;
+    const int cell[3] = {std::min(int(x), nHalf - 2), std::min(int(y), nDiff - 2),
+                         std::min(int(z), nPhi - 2)};
+    const double frac[3] = {x - cell[0], y - cell[1], z - cell[2]};
+    return interpolate(cell, frac);
+}
+
+Spectrum HeTorranceTable::interpolate(const int* cell, const double* frac) const {
+    const int nDiff = res_.diff, nPhi = res_.phi;
+    const int ix = cell[0], iy = cell[1], iz = cell[2];
+    const double fx = frac[0], fy = frac[1], fz = frac[2];
     const float* v = &values_[((std::size_t(ix) * nDiff + iy) * nPhi + iz) * kBandCount];
     const std::size_t sz = kBandCount, sy = std::size_t(nPhi) * kBandCount,
                       sx = std::size_t(nDiff) * nPhi * kBandCount;

@@ -64,6 +64,14 @@ public:
 
     // f(wi, wo) per band (unit local directions), as HeTorrance::eval within the error bound.
     Spectrum eval(const Vec3& wi, const Vec3& wo) const;
+    // f(wi_k, wo) for n ≤ kLanes directions wi_k = (wx[k], wy[k], wz[k]) at one wo (the lights of
+    // one shaded point, render/shading.cpp), into f[0 … n): eval's values, the coordinates with
+    // SIMD across the directions (he_torrance_table_simd.cpp). The same operations as eval except
+    // acos, which is Highway's (a few ulp from libm's): tested within 1e-12 of eval's f, relative
+    // to the table's peak M (HeTorranceTable.LanesGiveEvalsValues).
+    static constexpr int kLanes = 4;
+    void evalLanes(int n, const double* wx, const double* wy, const double* wz, const Vec3& wo,
+                   Spectrum* f) const;
 
     // e(wi, wo) (above): the largest over the bands of |f_table − f_series|·cos θi / M, f_series
     // from `series` (the model the table was built from).
@@ -78,6 +86,9 @@ public:
     static void directions(double u, double thetaD, double phiD, Vec3& wi, Vec3& wo);
 
 private:
+    // The trilinear interpolation of the cell whose first node is cell[0 … 2] (u, θd, φd) at
+    // fractions frac[0 … 2], clamped at 0 per band (eval and evalLanes).
+    Spectrum interpolate(const int* cell, const double* frac) const;
     Resolution res_ = kPreview;
     std::vector<float> values_;  // kBandCount per node; φd fastest, then θd, then u
     Spectrum peak_{0.0};

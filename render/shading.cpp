@@ -1,5 +1,6 @@
 #include "render/shading.h"
 
+#include "materials/he_torrance_table.h"
 #include "render/shading_simd.h"
 
 #include <algorithm>
@@ -175,6 +176,61 @@ bool anisoKernelSums(const Material& m, const Frame& frame, const Vec3& position
     return true;
 }
 
+// He–Torrance read from its table (materials/he_torrance_table.h: previews and full renders;
+// null without one, `--exact-brdf`): the lights' f in lanes, kLanes lights at a time
+// (HeTorranceTable::evalLanes: the coordinates with SIMD, within 1e-12 of eval's f relative to
+// the table's peak; docs/performance.md, round 7), then the sums of directLightingLoop
+// (`combined`: into terms.lambert) or shadeTermsLoop in the lights' order, operation for
+// operation. `frame` is turned to the viewer already.
+inline const HeTorranceTable* heTorranceTableOf(const Material& m) {
+    const HeTorrance* model = std::get_if<HeTorrance>(&m.specular);
+    return model ? model->table.get() : nullptr;
+}
+
+template <class OnEvaluation>
+ShadingTerms heTorranceTableLoop(const HeTorranceTable& table, const Material& m,
+                                 const Frame& frame, const Vec3& position, const Vec3& toViewer,
+                                 const std::vector<PointLight>& lights, const double* shadow,
+                                 bool combined, OnEvaluation& onEvaluation) {
+    constexpr int L = HeTorranceTable::kLanes;
+    const Vec3 wo = frame.toLocal(toViewer);
+    const Spectrum diffuse = m.kd * kInvPi;
+    ShadingTerms terms;
+    double wx[L], wy[L], wz[L], gs[L];
+    size_t index[L];
+    int n = 0;
+    const auto flush = [&]() {
+        Spectrum f[L];
+        if (m.specularOn) table.evalLanes(n, wx, wy, wz, wo, f);
+        for (int k = 0; k < n; ++k) {
+            onEvaluation();
+            const Spectrum& intensity = lights[index[k]].intensity;
+            const double g = gs[k];
+            if (combined) {
+                Spectrum fk = diffuse;
+                if (m.specularOn) fk += clampBrdfValue(f[k]) * m.specularScale;
+                terms.lambert += fk * intensity * g;
+            } else {
+                terms.lambert += diffuse * intensity * g;
+                if (m.specularOn)
+                    terms.specular += clampBrdfValue(f[k]) * m.specularScale * intensity * g;
+            }
+        }
+        n = 0;
+    };
+    forEachLitLight(lights, frame, position, toViewer, shadow,
+                    [&](size_t light, const Vec3& wi, double g) {
+                        wx[n] = wi.x;
+                        wy[n] = wi.y;
+                        wz[n] = wi.z;
+                        gs[n] = g;
+                        index[n] = light;
+                        if (++n == L) flush();
+                    });
+    if (n > 0) flush();
+    return terms;
+}
+
 // The normal of facingViewer (render/shading.h) alone.
 inline Vec3 facingNormal(const Vec3& n, const Vec3& toViewer) {
     return n.dot(toViewer) < 0.0 ? -n : n;
@@ -192,6 +248,10 @@ Spectrum directLightingImpl(const Material& material, const Frame& frameIn, cons
         anisoKernelSums(material, frame, position, toViewer, lights, shadow, true, onEvaluation,
                         sums))
         return Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
+    if (const HeTorranceTable* table = heTorranceTableOf(material))
+        return heTorranceTableLoop(*table, material, frame, position, toViewer, lights, shadow,
+                                   true, onEvaluation)
+            .lambert;
     const Vec3 wo = frame.toLocal(toViewer);
     return visitAtView(material.specular, wo, [&](auto& specular) {
         return directLightingLoop(specular, material, frame, position, toViewer, lights, shadow,
@@ -253,6 +313,9 @@ ShadingTerms shadeTermsImpl(const ShadingPoint& point, const Vec3& toViewer,
                         onEvaluation, sums)) {
         terms.lambert = Spectrum(sums.lambert[0], sums.lambert[1], sums.lambert[2]);
         terms.specular = Spectrum(sums.specular[0], sums.specular[1], sums.specular[2]);
+    } else if (const HeTorranceTable* table = heTorranceTableOf(m)) {
+        terms = heTorranceTableLoop(*table, m, frame, point.position, toViewer, lights,
+                                    point.shadow, false, onEvaluation);
     } else {
         const Vec3 wo = frame.toLocal(toViewer);
         terms = visitAtView(m.specular, wo, [&](auto& specular) {
