@@ -219,7 +219,11 @@ bool IsoExactSurface::intersectPrimitive(unsigned brick, const WalkRay& ray, dou
     return firstRootInBrick(origins_[brick], cells_[brick], iso_, ray, tMin, tMax, corners, tHit);
 }
 
-SurfaceHit IsoExactSurface::shade(const Ray& ray, double t, unsigned primId) const {
+// flatten: the hit's position, its index point, the cell's corners, the gradient and its
+// world form in one function (the preview's 0.52 M hits: these calls 1.66 → 1.20 % of the
+// process' perf samples); the same operations, so the same normal.
+[[gnu::flatten]] SurfaceHit IsoExactSurface::shade(const Ray& ray, double t,
+                                                   unsigned primId) const {
     return user_geometry::shadeByGradient(
         ray, t, primId, [&](const Vec3& x) { return worldGradient(primId, map_.toIndex(x)); });
 }
