@@ -9,7 +9,6 @@
 #include "core/rng.h"
 #include "dvr_test_grids.h"
 #include "render/compositor.h"
-#include "volume/ray_packet.h"
 #include "volume/volume_marcher.h"
 
 #include <gtest/gtest.h>
@@ -883,114 +882,6 @@ TEST(VolumeMarcher, GradientThresholdDecidesShading) {
     EXPECT_LT(inside.position.x, 20.0);
     EXPECT_FALSE(inside.hasNormal);
     EXPECT_EQ(inside.gradient.length(), 0.0);
-}
-
-TEST(VolumeMarcher, RayPacketGivesEachRayItsOwnSamples) {
-    // RayPacketSampler (volume/ray_packet.h) against one VolumeRaySampler per ray on the scalar
-    // reference (DvrSettings::simd = false): 8 lanes refilled from a queue of 160 rays as they
-    // finish, each lane asked in random subsets and marched in segments of random length; every
-    // ray's samples (t, value, opacity, colour, positions, and the normal where asked) and the
-    // counters equal, bit for bit. Narrow tents and the cortex preset at the coarse steps, and
-    // one fine step (lanes off the coarse path).
-    constexpr int kLanes = RayPacketSampler::kLanes;
-    long long compared = 0;
-    for (const TransferFunction& tf : {narrowTents(), TransferFunction::cortex(0.4, 0.3)})
-        for (double step : {1.0, 0.575, 0.3, 0.1}) {
-            DvrSettings packed, reference;
-            packed.stepVoxels = reference.stepVoxels = step;
-            reference.simd = false;
-            std::vector<Vec3> centres;
-            const openvdb::FloatGrid::Ptr grid = randomBalls(59, 6, &centres);
-            const DvrVolume vp(grid, tf, packed), vr(grid, tf, reference);
-            constexpr int kRays = 160;
-            std::vector<Ray> rays;
-            std::vector<double> jitters;
-            std::vector<std::vector<VolumeSample>> expected(kRays);
-            long long evaluated = 0, skipped = 0;
-            for (int n = 0; n < kRays; ++n) {
-                Rng rng(29, n);
-                rays.push_back(rayAtBall(centres, n, rng));
-                jitters.push_back(rng.uniform());
-                VolumeRaySampler s(vr);
-                if (!s.begin(rays.back(), jitters.back())) continue;
-                VolumeSample x;
-                while (s.next(std::numeric_limits<double>::infinity(), x, true))
-                    expected[size_t(n)].push_back(x);
-                evaluated += s.samplesEvaluated();
-                skipped += s.samplesSkipped();
-            }
-            RayPacketSampler packet(vp);
-            Rng draw(31, int(step * 1000));
-            int laneRay[kLanes], nextRay = 0;
-            size_t got[kLanes] = {};
-            double tEnd[kLanes];
-            VolumeSample samples[kLanes];
-            uint32_t active = 0;
-            std::vector<char> finished(kRays, 0);
-            for (;;) {
-                for (int l = 0; l < kLanes; ++l) {  // refill idle lanes
-                    while (!((active >> l) & 1u) && nextRay < kRays) {
-                        const int n = nextRay++;
-                        if (packet.begin(l, rays[size_t(n)], jitters[size_t(n)])) {
-                            laneRay[l] = n;
-                            got[l] = 0;
-                            tEnd[l] = -std::numeric_limits<double>::infinity();
-                            active |= 1u << l;
-                        } else {
-                            EXPECT_TRUE(expected[size_t(n)].empty()) << n;
-                            finished[size_t(n)] = 1;
-                        }
-                    }
-                }
-                if (!active) break;
-                uint32_t ask = 0;
-                for (int l = 0; l < kLanes; ++l)
-                    if (((active >> l) & 1u) && draw.uniform() < 0.7) {
-                        ask |= 1u << l;
-                        const double t0 = std::max(tEnd[l], rays[size_t(laneRay[l])].tMin);
-                        tEnd[l] = t0 + 30.0 * draw.uniform() * step;
-                    }
-                const uint32_t found = packet.next(ask, tEnd, samples);
-                EXPECT_EQ(found & ~ask, 0u);
-                for (int l = 0; l < kLanes; ++l) {
-                    if (!((ask >> l) & 1u)) continue;
-                    const std::vector<VolumeSample>& want = expected[size_t(laneRay[l])];
-                    if ((found >> l) & 1u) {
-                        VolumeSample& x = samples[l];
-                        ASSERT_LT(got[l], want.size()) << laneRay[l];
-                        const VolumeSample& y = want[got[l]++];
-                        EXPECT_LT(x.t, tEnd[l]);
-                        EXPECT_EQ(x.t, y.t);
-                        EXPECT_EQ(x.value, y.value);
-                        EXPECT_EQ(x.alpha, y.alpha);
-                        EXPECT_EQ(x.colour, y.colour);
-                        EXPECT_EQ(x.position, y.position);
-                        EXPECT_EQ(x.indexPosition, y.indexPosition);
-                        if (draw.uniform() < 0.5) {
-                            packet.addNormal(l, x);
-                            EXPECT_EQ(x.gradient, y.gradient);
-                            EXPECT_EQ(x.normal, y.normal);
-                            EXPECT_EQ(x.hasNormal, y.hasNormal);
-                        }
-                        ++compared;
-                    } else {
-                        // None before tEnd: the next one (if any) lies at or beyond it.
-                        if (got[l] < want.size()) {
-                            EXPECT_GE(want[got[l]].t, tEnd[l]);
-                        } else if (tEnd[l] > 1e6) {
-                            finished[size_t(laneRay[l])] = 1;
-                            active &= ~(1u << l);
-                        }
-                        // A lane whose samples are all seen is ended after one long segment.
-                        if (got[l] == want.size()) tEnd[l] = 2e6;
-                    }
-                }
-            }
-            for (int n = 0; n < kRays; ++n) EXPECT_TRUE(finished[size_t(n)]) << n;
-            EXPECT_EQ(packet.samplesEvaluated(), evaluated) << step;
-            EXPECT_EQ(packet.samplesSkipped(), skipped) << step;
-        }
-    EXPECT_GT(compared, 3000);
 }
 
 }  // namespace
